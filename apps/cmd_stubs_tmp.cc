@@ -1,0 +1,5 @@
+#include "apps/commands.h"
+namespace pgba::app {
+void RegisterSynth(CLI::App& app) {}
+void RegisterEvaluate(CLI::App& app) {}
+}

@@ -1,0 +1,19 @@
+// Each `pgba <subcommand>` lives in its own apps/cmd_<name>.cc and registers itself here.
+// A command's callback returns the process exit code; InputError thrown anywhere below is
+// turned into "error: <message>" and exit code 2 by main().
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <functional>
+
+namespace pgba::app {
+
+using CommandRunner = std::function<int()>;
+
+// Registers a subcommand; `run` is invoked if it was selected on the command line.
+void AddCommand(CLI::App& app, CLI::App* sub, CommandRunner run);
+
+void RegisterSynth(CLI::App& app);
+void RegisterEvaluate(CLI::App& app);
+
+}  // namespace pgba::app

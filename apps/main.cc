@@ -1,0 +1,47 @@
+// pgba: pointless global bundle adjustment, from tracks or images to poses.
+#include <iostream>
+#include <vector>
+
+#include "apps/commands.h"
+#include "pgba/util/error.h"
+#include "pgba/util/logging.h"
+
+namespace pgba::app {
+namespace {
+std::vector<std::pair<CLI::App*, CommandRunner>>& Runners() {
+  static std::vector<std::pair<CLI::App*, CommandRunner>> runners;
+  return runners;
+}
+}  // namespace
+
+void AddCommand(CLI::App& app, CLI::App* sub, CommandRunner run) { Runners().emplace_back(sub, std::move(run)); }
+
+}  // namespace pgba::app
+
+int main(int argc, char** argv) {
+  using namespace pgba;
+  CLI::App app{"pgba: Structure-from-Motion with pointless global bundle adjustment"};
+  app.require_subcommand(1);
+  int verbosity = 1;
+  app.add_option("-v,--verbosity", verbosity, "0 quiet, 1 info (default), 2 debug");
+  app::RegisterSynth(app);
+  app::RegisterEvaluate(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : kInputErrorExitCode;
+  }
+  SetLogVerbosity(verbosity);
+  try {
+    for (auto& [sub, run] : app::Runners())
+      if (sub->parsed()) return run();
+  } catch (const InputError& e) {
+    std::cerr << "error: " << e.what() << std::endl;
+    return kInputErrorExitCode;
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << std::endl;
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,58 @@
+#include "pgba/geometry/sim3.h"
+
+#include <Eigen/Geometry>
+#include <Eigen/SVD>
+
+namespace pgba {
+
+Pose Sim3::Apply(const Pose& pose) const { return Pose::FromRC(pose.R() * R.transpose(), Apply(pose.C())); }
+
+Sim3 Sim3::Inverse() const {
+  Sim3 inv;
+  inv.s = 1.0 / s;
+  inv.R = R.transpose();
+  inv.t = -inv.s * (inv.R * t);
+  return inv;
+}
+
+Sim3 Sim3::operator*(const Sim3& b) const {
+  Sim3 c;
+  c.s = s * b.s;
+  c.R = R * b.R;
+  c.t = s * (R * b.t) + t;
+  return c;
+}
+
+Eigen::Matrix4d Sim3::Matrix() const {
+  Eigen::Matrix4d M = Eigen::Matrix4d::Identity();
+  M.topLeftCorner<3, 3>() = s * R;
+  M.topRightCorner<3, 1>() = t;
+  return M;
+}
+
+bool EstimateSim3(const std::vector<Eigen::Vector3d>& src, const std::vector<Eigen::Vector3d>& dst,
+                  Sim3* sim) {
+  const int n = static_cast<int>(src.size());
+  if (n < 3 || dst.size() != src.size()) return false;
+  Eigen::Matrix3Xd A(3, n), B(3, n);
+  for (int i = 0; i < n; ++i) {
+    A.col(i) = src[i];
+    B.col(i) = dst[i];
+  }
+  // Degeneracy: the centred source points must span at least a line with spread in a second
+  // direction (collinear points leave the rotation about that line free).
+  const Eigen::Matrix3Xd Ac = A.colwise() - A.rowwise().mean();
+  Eigen::JacobiSVD<Eigen::Matrix3Xd> svd(Ac);
+  const Eigen::Vector3d sv = svd.singularValues();
+  if (!(sv(0) > 0) || sv(1) < 1e-9 * sv(0)) return false;
+  const Eigen::Matrix4d T = Eigen::umeyama(A, B, true);
+  if (!T.allFinite()) return false;
+  const Eigen::Matrix3d sR = T.topLeftCorner<3, 3>();
+  sim->s = std::cbrt(sR.determinant());
+  if (!(sim->s > 0)) return false;
+  sim->R = sR / sim->s;
+  sim->t = T.topRightCorner<3, 1>();
+  return true;
+}
+
+}  // namespace pgba

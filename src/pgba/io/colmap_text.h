@@ -1,0 +1,31 @@
+// COLMAP text model: cameras.txt, images.txt, points3D.txt.
+//
+// Reading is strict: a truncated line, a non-number, NaN/Inf, a duplicate id or an id that
+// does not resolve raises InputError("FILE:LINE: problem"). Writing uses 17 significant
+// digits, so read -> write -> read reproduces every value bit for bit, and goes through a
+// staging directory so that a model directory is never left half-written.
+#pragma once
+
+#include <map>
+#include <string>
+
+#include "pgba/scene/reconstruction.h"
+
+namespace pgba {
+
+// cameras.txt alone (a calibration file).
+std::map<uint32_t, Camera> ReadColmapCameras(const std::string& path);
+
+// Reads DIR/{cameras,images,points3D}.txt. A missing points3D.txt is an error unless
+// `points_optional` (ground-truth models often ship poses only).
+Reconstruction ReadColmapText(const std::string& dir, bool points_optional = false);
+
+// Writes DIR/{cameras,images,points3D}.txt atomically (the whole directory is swapped in).
+void WriteColmapText(const Reconstruction& rec, const std::string& dir);
+
+// Single-file writers used by WriteColmapText (exposed for tests and partial exports).
+void WriteColmapCamerasFile(const Reconstruction& rec, const std::string& path);
+void WriteColmapImagesFile(const Reconstruction& rec, const std::string& path);
+void WriteColmapPointsFile(const Reconstruction& rec, const std::string& path);
+
+}  // namespace pgba

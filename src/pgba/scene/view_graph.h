@@ -1,0 +1,41 @@
+// Artefacts of global initialisation that later stages consume: verified image pairs with
+// their relative pose, triplets with their local poses (consistent scale inside the
+// triplet), and each triplet's global->local similarity (paper eq. 4).
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "pgba/geometry/pose.h"
+#include "pgba/geometry/sim3.h"
+
+namespace pgba {
+
+// Relative geometry of a pair: x_2 = R_21 x_1 + t_21 with |t_21| = 1 (camera frames).
+struct TwoViewGeometry {
+  uint32_t image_id1 = 0;
+  uint32_t image_id2 = 0;
+  Eigen::Matrix3d R_21 = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d t_21 = Eigen::Vector3d::UnitX();
+  int num_tracks = 0;   // tracks shared by the two images
+  int num_inliers = 0;  // of the essential-matrix fit
+  double median_triangulation_angle_deg = 0.0;
+};
+
+// Three views with poses in a local frame of the triplet (scale consistent over the three).
+struct Triplet {
+  std::array<uint32_t, 3> image_ids{};
+  // World(local)->camera poses of the three views in the triplet's local frame.
+  std::array<Pose, 3> local_poses;
+  // Tracks (point3D ids of the input model) used by the triplet BA; the local Hessian
+  // stage uses exactly these.
+  std::vector<uint64_t> track_ids;
+  double rms_px = 0.0;  // reprojection RMS after the triplet BA
+  // Global->local similarity X_loc = s R X + t (filled by the averaging stage).
+  Sim3 global_to_local;
+};
+
+}  // namespace pgba

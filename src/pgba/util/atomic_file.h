@@ -1,0 +1,42 @@
+// Atomic outputs: nothing half-written is ever left under a final name.
+//
+// Files are written to "<path>.tmp.<pid>" and renamed over <path> (rename(2) is atomic
+// on one file system). Directories of several files (a COLMAP model) are written into
+// "<dir>.tmp.<pid>/" and swapped in as a whole by CommitDirectory.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <ostream>
+#include <string>
+
+namespace pgba {
+
+// Writes `path` atomically: `writer` fills the stream; on exception or stream failure the
+// temporary is removed and InputError/runtime_error propagates.
+void WriteFileAtomically(const std::filesystem::path& path,
+                         const std::function<void(std::ostream&)>& writer);
+
+// Convenience for a string payload.
+void WriteStringAtomically(const std::filesystem::path& path, const std::string& content);
+
+// A staging directory that becomes `final_dir` only when Commit() is called. If the object
+// is destroyed without Commit() (an exception), the staging directory is removed.
+class StagedDirectory {
+ public:
+  explicit StagedDirectory(std::filesystem::path final_dir);
+  ~StagedDirectory();
+  StagedDirectory(const StagedDirectory&) = delete;
+  StagedDirectory& operator=(const StagedDirectory&) = delete;
+
+  const std::filesystem::path& path() const { return staging_; }
+  // Replaces any existing `final_dir` by the staging directory.
+  void Commit();
+
+ private:
+  std::filesystem::path final_;
+  std::filesystem::path staging_;
+  bool committed_ = false;
+};
+
+}  // namespace pgba
