@@ -2,6 +2,7 @@
 // Writes DIR/gt/ (true poses and points, noisy observations), DIR/input/ (same cameras,
 // observations and tracks; poses identity, points at the origin) and, for scenarios that
 // withhold a loop, DIR/loop_pairs.txt.
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -21,6 +22,7 @@ namespace {
 struct SynthArgs {
   std::string scenario = "orbit";
   std::string out;
+  int64_t seed = 1;  // signed so that a negative seed is rejected rather than wrapped
   SyntheticOptions options;
 };
 
@@ -47,12 +49,12 @@ int RunSynth(const SynthArgs& args) {
 
   const size_t obs = scene.gt.NumObservations();
   const size_t points = scene.gt.points3D.size();
-  std::printf("synth %s (seed %llu, noise %.3g px, outliers %.3g): %zu images, %zu points, %zu observations, "
-              "mean track length %.2f, %zu outliers, %zu loop pairs, extent %.1f m, %.2f s\n",
-              SyntheticScenarioName(options.scenario), static_cast<unsigned long long>(options.seed),
-              options.noise_px, options.outlier_fraction, scene.gt.images.size(), points, obs,
-              points ? double(obs) / points : 0.0, scene.outliers.size(), scene.loop_pairs.size(), scene.extent,
-              generate_s);
+  std::printf(
+      "synth %s (seed %llu, noise %.3g px, outliers %.3g): %zu images, %zu points, %zu observations, "
+      "mean track length %.2f, %zu outliers, %zu loop pairs, extent %.1f m, %.2f s\n",
+      SyntheticScenarioName(options.scenario), static_cast<unsigned long long>(options.seed), options.noise_px,
+      options.outlier_fraction, scene.gt.images.size(), points, obs, points ? double(obs) / points : 0.0,
+      scene.outliers.size(), scene.loop_pairs.size(), scene.extent, generate_s);
   std::printf("wrote %s/gt, %s/input%s\n", out.string().c_str(), out.string().c_str(),
               scene.loop_pairs.empty() ? "" : (", " + loop.string()).c_str());
   return 0;
@@ -65,7 +67,7 @@ void RegisterSynth(CLI::App& app) {
   CLI::App* sub = app.add_subcommand("synth", "Generate a synthetic scene with ground truth");
   sub->add_option("--scenario", args->scenario, "orbit | longfocal | aerial | planar")->required();
   sub->add_option("--out", args->out, "Output directory (gt/, input/, loop_pairs.txt)")->required();
-  sub->add_option("--seed", args->options.seed, "Random seed (default 1)");
+  sub->add_option("--seed", args->seed, "Random seed, >= 0 (default 1)");
   sub->add_option("--noise", args->options.noise_px, "Gaussian observation noise, px per coordinate (default 0.5)");
   sub->add_option("--outliers", args->options.outlier_fraction,
                   "Fraction of observations replaced by random pixels, in [0, 1) (default 0)");
@@ -80,7 +82,10 @@ void RegisterSynth(CLI::App& app) {
       ThrowInputError("--points", 0, "must be >= 1, got " + std::to_string(a.options.num_points));
     if (sub->count("--strips") && a.options.num_strips < 1)
       ThrowInputError("--strips", 0, "must be >= 1, got " + std::to_string(a.options.num_strips));
-    if (!(a.options.noise_px >= 0.0)) ThrowInputError("--noise", 0, "must be >= 0 px");
+    if (a.seed < 0) ThrowInputError("--seed", 0, "must be >= 0, got " + std::to_string(a.seed));
+    a.options.seed = static_cast<uint64_t>(a.seed);
+    if (!(a.options.noise_px >= 0.0 && std::isfinite(a.options.noise_px)))
+      ThrowInputError("--noise", 0, "must be a finite number >= 0 px");
     if (!(a.options.outlier_fraction >= 0.0 && a.options.outlier_fraction < 1.0))
       ThrowInputError("--outliers", 0, "must be in [0, 1)");
     return RunSynth(a);

@@ -17,16 +17,16 @@ namespace {
 constexpr double kDegToRad = M_PI / 180.0;
 
 struct RingSpec {
-  const char* name_format;   // printf format of the image name, one %d (view index)
-  double radius;             // metres
-  double radius_jitter;      // std dev, metres
-  double height;             // mean camera height, metres
-  double height_wave;        // amplitude of a smooth height variation around the ring
-  double height_jitter;      // std dev, metres
-  double azimuth_jitter;     // std dev, fraction of the angular step
-  Eigen::Vector3d target;    // look-at point
-  double target_jitter;      // std dev, metres
-  double roll_deg;           // std dev of the roll about the optical axis
+  const char* name_format;  // printf format of the image name, one %d (view index)
+  double radius;            // metres
+  double radius_jitter;     // std dev, metres
+  double height;            // mean camera height, metres
+  double height_wave;       // amplitude of a smooth height variation around the ring
+  double height_jitter;     // std dev, metres
+  double azimuth_jitter;    // std dev, fraction of the angular step
+  Eigen::Vector3d target;   // look-at point
+  double target_jitter;     // std dev, metres
+  double roll_deg;          // std dev of the roll about the optical axis
 };
 
 std::vector<LayoutView> RingViews(const RingSpec& spec, int n, Rng& rng) {
@@ -40,7 +40,8 @@ std::vector<LayoutView> RingViews(const RingSpec& spec, int n, Rng& rng) {
     const double r = spec.radius + spec.radius_jitter * gauss(rng);
     const double z = spec.height + spec.height_wave * std::sin(2.0 * az + wave_phase) + spec.height_jitter * gauss(rng);
     const Eigen::Vector3d C(r * std::cos(az), r * std::sin(az), z);
-    const Eigen::Vector3d target = spec.target + spec.target_jitter * Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng));
+    const Eigen::Vector3d target =
+        spec.target + spec.target_jitter * Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng));
     const Eigen::Matrix3d R = ExpSO3(Eigen::Vector3d(0, 0, spec.roll_deg * kDegToRad * gauss(rng))) *
                               LookAtRotation(C, target, Eigen::Vector3d::UnitZ());
     char name[64];

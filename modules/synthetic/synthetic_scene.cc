@@ -9,6 +9,7 @@
 
 #include "modules/synthetic/synthetic_layout.h"
 #include "pgba/util/error.h"
+#include "pgba/util/logging.h"
 
 namespace pgba {
 
@@ -167,8 +168,9 @@ void ValidateSyntheticOptions(const SyntheticOptions& o) {
   if (o.num_strips > 0 && o.scenario != SyntheticScenario::kAerial)
     ThrowInputError(kWhat, 0, "number of strips (num_strips) only applies to the aerial scenario");
   if (o.num_strips > 0 && o.num_images > 0 && o.num_images < 2 * o.num_strips)
-    ThrowInputError(kWhat, 0, "aerial: " + std::to_string(o.num_images) + " images cannot fill " +
-                                  std::to_string(o.num_strips) + " strips of at least 2 images");
+    ThrowInputError(kWhat, 0,
+                    "aerial: " + std::to_string(o.num_images) + " images cannot fill " + std::to_string(o.num_strips) +
+                        " strips of at least 2 images");
   bool known = false;
   for (const auto& e : kScenarios) known |= e.scenario == o.scenario;
   if (!known) ThrowInputError(kWhat, 0, "unknown scenario");
@@ -179,10 +181,18 @@ SyntheticScene GenerateSyntheticScene(const SyntheticOptions& options) {
   synthetic::Rng rng(options.seed);
   synthetic::SceneLayout layout;
   switch (options.scenario) {
-    case SyntheticScenario::kOrbit: layout = synthetic::MakeOrbitLayout(options, rng); break;
-    case SyntheticScenario::kLongFocal: layout = synthetic::MakeLongFocalLayout(options, rng); break;
-    case SyntheticScenario::kAerial: layout = synthetic::MakeAerialLayout(options, rng); break;
-    case SyntheticScenario::kPlanar: layout = synthetic::MakePlanarLayout(options, rng); break;
+    case SyntheticScenario::kOrbit:
+      layout = synthetic::MakeOrbitLayout(options, rng);
+      break;
+    case SyntheticScenario::kLongFocal:
+      layout = synthetic::MakeLongFocalLayout(options, rng);
+      break;
+    case SyntheticScenario::kAerial:
+      layout = synthetic::MakeAerialLayout(options, rng);
+      break;
+    case SyntheticScenario::kPlanar:
+      layout = synthetic::MakePlanarLayout(options, rng);
+      break;
   }
   SyntheticScene scene;
   std::vector<synthetic::SyntheticTrack> tracks = ObserveTracks(layout, options.noise_px, rng);
@@ -192,6 +202,11 @@ SyntheticScene GenerateSyntheticScene(const SyntheticOptions& options) {
   SetPointErrors(&scene.gt);
   scene.input = MakeInput(scene.gt);
   scene.extent = CentreExtent(scene.gt);
+  size_t unobserved = 0;
+  for (const auto& [id, im] : scene.gt.images) unobserved += im.points2D.empty();
+  if (unobserved > 0)
+    PGBA_LOG_WARN << SyntheticScenarioName(options.scenario) << ": " << unobserved << " of " << scene.gt.images.size()
+                  << " images have no observations (too few images or points for this scenario)";
   return scene;
 }
 

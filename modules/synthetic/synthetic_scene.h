@@ -15,8 +15,8 @@
 // options give a bit-identical scene on a given platform.
 #pragma once
 
-#include <nlohmann/json.hpp>
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 

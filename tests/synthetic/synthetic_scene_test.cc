@@ -2,6 +2,8 @@
 // level, outliers are what was asked, the input model is the gt model with unknown poses,
 // tracks are limited like matched features, and each scenario has its geometry (ring looking
 // inwards, ~2 degree lens with a withheld loop, 80/60 aerial overlap, planar wall).
+#include "modules/synthetic/synthetic_scene.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,7 +12,6 @@
 #include <numeric>
 #include <set>
 
-#include "modules/synthetic/synthetic_scene.h"
 #include "pgba/geometry/triangulation.h"
 #include "pgba/util/error.h"
 
@@ -113,8 +114,7 @@ void ExpectIdentical(const Reconstruction& a, const Reconstruction& b, bool same
   }
 }
 
-SyntheticScene Generate(SyntheticScenario scenario, double noise, double outliers, uint64_t seed = 1,
-                        int images = 0) {
+SyntheticScene Generate(SyntheticScenario scenario, double noise, double outliers, uint64_t seed = 1, int images = 0) {
   SyntheticOptions o;
   o.scenario = scenario;
   o.noise_px = noise;
@@ -186,11 +186,12 @@ TEST_P(EveryScenario, TracksAreLimitedLikeMatchedFeatures) {
   const double max = *std::max_element(lengths.begin(), lengths.end());
   const double in_frame_mean = in_frame_sum / lengths.size();
   std::cout << SyntheticScenarioName(GetParam()) << ": mean track " << mean << ", max " << max
-            << ", mean in-frame views " << in_frame_mean << ", complete tracks "
-            << double(complete) / lengths.size() << std::endl;
+            << ", mean in-frame views " << in_frame_mean << ", complete tracks " << double(complete) / lengths.size()
+            << std::endl;
   EXPECT_GE(mean, 2.5);
   EXPECT_LE(mean, 8.0);
   EXPECT_GE(max, 2.0 * mean) << "no long tracks";
+  EXPECT_LT(max, 0.5 * s.gt.images.size());
   EXPECT_LT(mean, 0.6 * in_frame_mean) << "tracks hold nearly every view that could see the point";
   EXPECT_LT(double(complete) / lengths.size(), 0.25);
 }
@@ -280,8 +281,8 @@ TEST(SyntheticLongFocal, TwoDegreeLensAndWithheldLoop) {
     ASSERT_TRUE(i && j);
     EXPECT_TRUE(first(*i) && last(*j)) << c.name_i << " " << c.name_j;
     linked.insert({c.name_i, c.name_j});
-    const TriangulatedPoint t = TriangulateTrack(
-        {{s.gt.images.at(*i).pose, &cam, c.xy_i}, {s.gt.images.at(*j).pose, &cam, c.xy_j}});
+    const TriangulatedPoint t =
+        TriangulateTrack({{s.gt.images.at(*i).pose, &cam, c.xy_i}, {s.gt.images.at(*j).pose, &cam, c.xy_j}});
     ASSERT_TRUE(t.ok);
     for (double r : t.residuals_px) residuals.push_back(r);
   }

@@ -33,7 +33,8 @@ std::vector<LoopCorrespondence> ReadLoopPairs(const std::string& path) {
     c.xy_i = Eigen::Vector2d(r.ToDouble(tok[1], "x_i"), r.ToDouble(tok[2], "y_i"));
     c.name_j = tok[3];
     c.xy_j = Eigen::Vector2d(r.ToDouble(tok[4], "x_j"), r.ToDouble(tok[5], "y_j"));
-    if (c.name_i == c.name_j) r.Fail("a loop correspondence must link two different images, got '" + c.name_i + "' twice");
+    if (c.name_i == c.name_j)
+      r.Fail("a loop correspondence must link two different images, got '" + c.name_i + "' twice");
     pairs.push_back(std::move(c));
   }
   return pairs;
@@ -48,8 +49,8 @@ void WriteLoopPairs(const std::vector<LoopCorrespondence>& pairs, const std::str
     out << "# Withheld loop correspondences, pixels: name_i x_i y_i name_j x_j y_j\n"
         << "# Number of correspondences: " << pairs.size() << "\n";
     for (const auto& c : pairs)
-      out << c.name_i << ' ' << Num(c.xy_i.x()) << ' ' << Num(c.xy_i.y()) << ' ' << c.name_j << ' '
-          << Num(c.xy_j.x()) << ' ' << Num(c.xy_j.y()) << '\n';
+      out << c.name_i << ' ' << Num(c.xy_i.x()) << ' ' << Num(c.xy_i.y()) << ' ' << c.name_j << ' ' << Num(c.xy_j.x())
+          << ' ' << Num(c.xy_j.y()) << '\n';
   });
 }
 
