@@ -80,8 +80,8 @@ void EvaluationMetrics::PrintTable(std::ostream& out) const {
     const GroundTruthErrors& g = *ground_truth;
     Row(out, "gt images compared", std::to_string(g.num_common) + " (alignment on " +
                                        std::to_string(g.num_alignment_inliers) + ")");
-    Row(out, "rot err median (deg)", g.ok ? Fmt("%.5f", g.rot_err_deg_median) : na);
-    Row(out, "rot err max (deg)", g.ok ? Fmt("%.5f", g.rot_err_deg_max) : na);
+    Row(out, "rot err median (deg)", g.ok ? Fmt("%.4g", g.rot_err_deg_median) : na);
+    Row(out, "rot err max (deg)", g.ok ? Fmt("%.4g", g.rot_err_deg_max) : na);
     Row(out, "centre err median (rel)", g.ok ? Fmt("%.3e", g.center_err_rel_median) : na);
     Row(out, "centre err max (rel)", g.ok ? Fmt("%.3e", g.center_err_rel_max) : na);
   }
