@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "pgba/io/colmap_text.h"
+#include "pgba/io/loop_pairs.h"
 #include "tests/evaluation/test_scene.h"
 
 namespace pgba {
@@ -44,6 +45,7 @@ class EvaluateCli : public ::testing::Test {
     // A ground truth without points3D.txt (poses only).
     WriteColmapText(scene_.gt, (dir_ / "gt_poses").string());
     fs::remove(dir_ / "gt_poses" / "points3D.txt");
+    WriteLoopPairs(scene_.loops, (dir_ / "loop_pairs.txt").string());
   }
   void TearDown() override { fs::remove_all(dir_); }
 
@@ -83,12 +85,14 @@ class EvaluateCli : public ::testing::Test {
 TEST_F(EvaluateCli, GoodRunWritesJsonWithTheKeys) {
   const fs::path json = dir_ / "res" / "eval.json";
   const RunResult r = Run((dir_ / "gt").string() + " --obs " + (dir_ / "input").string() + " --gt " +
-                          (dir_ / "gt_poses").string() + " --json " + json.string());
+                          (dir_ / "gt_poses").string() + " --loop " + (dir_ / "loop_pairs.txt").string() +
+                          " --json " + json.string());
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("sigma rms (px)"), std::string::npos) << r.out;
   const nlohmann::json j = nlohmann::json::parse(Slurp(json));
   for (const char* key : {"images_input", "images_registered", "sigma_rms", "sigma_median", "inlier_fraction",
-                          "rot_err_deg_median", "rot_err_deg_max", "center_err_rel_median", "center_err_rel_max"})
+                          "rot_err_deg_median", "rot_err_deg_max", "center_err_rel_median", "center_err_rel_max",
+                          "loop_err_rms", "loop_err_median"})
     EXPECT_TRUE(j.contains(key)) << key;
   EXPECT_EQ(j["images_input"].get<int>(), 10);
   EXPECT_EQ(j["images_registered"].get<int>(), 10);
@@ -98,13 +102,17 @@ TEST_F(EvaluateCli, GoodRunWritesJsonWithTheKeys) {
   EXPECT_LT(j["sigma_rms"].get<double>(), 0.75);
   EXPECT_LT(j["rot_err_deg_max"].get<double>(), 1e-6);
   EXPECT_LT(j["center_err_rel_max"].get<double>(), 1e-9);
-  EXPECT_FALSE(j.contains("loop_err_rms"));  // no --loop
+  // 100 loop correspondences on true poses: RMS ~ 0.5 / sqrt(2) px.
+  EXPECT_GT(j["loop_err_rms"].get<double>(), 0.25);
+  EXPECT_LT(j["loop_err_rms"].get<double>(), 0.5);
   // Evaluating the input (identity poses) against itself: every centre coincides, so the
   // ground-truth alignment is undefined and its keys are absent; the run still succeeds.
   const RunResult degenerate = Run((dir_ / "input").string() + " --obs " + (dir_ / "input").string() + " --gt " +
                                    (dir_ / "gt").string() + " --json " + json.string());
   ASSERT_EQ(degenerate.code, 0) << degenerate.err;
-  EXPECT_FALSE(nlohmann::json::parse(Slurp(json)).contains("rot_err_deg_max"));
+  const nlohmann::json k = nlohmann::json::parse(Slurp(json));
+  EXPECT_FALSE(k.contains("rot_err_deg_max"));
+  EXPECT_FALSE(k.contains("loop_err_rms"));  // no --loop
 }
 
 TEST_F(EvaluateCli, BadInputsExitTwoNamingTheFile) {
@@ -137,6 +145,10 @@ TEST_F(EvaluateCli, BadInputsExitTwoNamingTheFile) {
   r = Run((dir_ / "gt").string() + obs + " --gt " + (dir_ / "missing_gt").string());
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("missing_gt: model directory not found"), std::string::npos) << r.err;
+  std::ofstream(dir_ / "bad_loops.txt") << "img_0.jpg 1 2 img_5.jpg 3\n";
+  r = Run((dir_ / "gt").string() + obs + " --loop " + (dir_ / "bad_loops.txt").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("bad_loops.txt:1: expected 6 fields"), std::string::npos) << r.err;
   r = Run((dir_ / "gt").string() + obs + " --inlier-px -1");
   EXPECT_EQ(r.code, 2) << r.err;
   r = Run((dir_ / "gt").string());  // --obs is required
