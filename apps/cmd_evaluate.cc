@@ -26,7 +26,7 @@ void RegisterEvaluate(CLI::App& app) {
   sub->add_option("--obs", args->obs, "COLMAP text model whose observations and tracks are triangulated")
       ->required();
   sub->add_option("--gt", args->gt, "Ground-truth COLMAP text model (points3D.txt optional)");
-  sub->add_option("--loop", args->loop, "Withheld loop correspondences (name_i x_i y_i name_j x_j y_j per line)");
+  sub->add_option("--loop", args->loop, "Withheld loop correspondences (name_i x_i y_i name_j x_j y_j)");
   sub->add_option("--json", args->json, "Write the metrics as JSON to this file");
   sub->add_option("--inlier-px", args->inlier_px, "Inlier threshold of sigma, pixels")
       ->check(CLI::PositiveNumber)
@@ -40,11 +40,12 @@ void RegisterEvaluate(CLI::App& app) {
     const Reconstruction obs = ReadColmapText(args->obs);
     Reconstruction gt;
     if (!args->gt.empty()) gt = ReadColmapText(args->gt, /*points_optional=*/true);
+
     std::vector<LoopCorrespondence> loops;
     if (!args->loop.empty()) loops = ReadLoopPairs(args->loop);
 
-    const EvaluationMetrics metrics = Evaluate(model, obs, args->gt.empty() ? nullptr : &gt,
-                                               args->loop.empty() ? nullptr : &loops, options);
+    const EvaluationMetrics metrics =
+        Evaluate(model, obs, args->gt.empty() ? nullptr : &gt, args->loop.empty() ? nullptr : &loops, options);
     if (metrics.images_registered == 0)
       PGBA_LOG_WARN << "no image of " << args->obs << " is in " << args->model << " (images are matched by name)";
     metrics.PrintTable(std::cout);
