@@ -12,9 +12,9 @@
 #include <cmath>
 #include <limits>
 #include <memory>
-#include <random>
 #include <stdexcept>
 
+#include "modules/matching/opengv_rng.h"
 #include "pgba/geometry/rotation.h"
 
 namespace pgba {
@@ -64,19 +64,13 @@ SacProblem::Algorithm ParseAlgorithm(const std::string& name) {
   throw std::invalid_argument("unknown relative pose algorithm '" + name + "' (stewenius, nister)");
 }
 
-// OpenGV's RANSAC with its sampling driven by our seeded engine. SampleConsensusProblem
-// draws through the public rng_gen_ functor (its rng_alg_ member is copied into that
-// functor at construction, so reseeding rng_alg_ would have no effect); replacing the
-// functor makes the sampling reproducible.
+// OpenGV's RANSAC with its sampling driven by our seeded engine (opengv_rng.h).
 bool RunRansac(const std::vector<Eigen::Vector3d>& b1, const std::vector<Eigen::Vector3d>& b2, double threshold_angle,
                const RelativePoseOptions& options, Eigen::Matrix3d* R_21, Eigen::Vector3d* t_21, int* iterations) {
   opengv::bearingVectors_t f1(b1.begin(), b1.end()), f2(b2.begin(), b2.end());
   opengv::relative_pose::CentralRelativeAdapter adapter(f1, f2);
   auto problem = std::make_shared<SacProblem>(adapter, ParseAlgorithm(options.algorithm), /*randomSeed=*/false);
-  auto engine = std::make_shared<std::mt19937>(static_cast<uint32_t>(options.seed ^ (options.seed >> 32)));
-  problem->rng_gen_ = std::make_shared<std::function<int()>>([engine]() {
-    return std::uniform_int_distribution<int>(0, std::numeric_limits<int>::max())(*engine);
-  });
+  SeedSacProblem(options.seed, problem.get());
   opengv::sac::Ransac<SacProblem> ransac;
   ransac.sac_model_ = problem;
   ransac.threshold_ = 1.0 - std::cos(threshold_angle);
