@@ -18,14 +18,20 @@ struct TripletOptions {
   bool selection = true;
   int max_triplets_per_image = 6;
   // Rounds of select -> estimate -> replace the failures by the next best candidates.
-  int max_selection_rounds = 10;
+  int max_selection_rounds = 20;
   // --- candidates ---
   // Triangles of the view graph whose pairwise rotations do not close (angle of
   // R_ki^T R_kj R_ji, degrees) are inconsistent and skipped before estimation.
   double max_rotation_cycle_deg = 3.0;
   // --- estimation ---
-  // Third view placed by absolute pose on the points triangulated from the best pair.
-  AbsolutePoseOptions absolute_pose;
+  // Third view placed by absolute pose on the points triangulated from the best pair
+  // (only an initialisation for the triplet BA: a loose threshold and few inliers suffice).
+  AbsolutePoseOptions absolute_pose = [] {
+    AbsolutePoseOptions o;
+    o.threshold_px = 4.0;
+    o.min_inliers = 10;
+    return o;
+  }();
   // Observations farther than this from their reprojection are outliers (triangulation,
   // triplet BA), pixels.
   double outlier_threshold_px = 4.0;
@@ -35,8 +41,7 @@ struct TripletOptions {
   // num_threads is forced to 1: triplets run in parallel.
   BundleAdjusterOptions bundle_adjuster = [] {
     BundleAdjusterOptions o;
-    o.max_iterations = 50;
-    o.function_tolerance = 1e-8;
+    o.max_iterations = 200;
     return o;
   }();
   // --- rejection ---

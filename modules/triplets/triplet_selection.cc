@@ -97,7 +97,13 @@ std::vector<size_t> SelectTriplets(const std::vector<TripletCandidate>& candidat
   // 2. Greedy cap per image.
   std::map<uint32_t, int> count;
   for (size_t i : order) {
+    if (!candidates[i].locked) continue;
+    selected[i] = 1;
+    for (uint32_t v : triplets[i]) ++count[v];
+  }
+  for (size_t i : order) {
     const auto& t = triplets[i];
+    if (selected[i]) continue;
     if (count[t[0]] < max_per_image || count[t[1]] < max_per_image || count[t[2]] < max_per_image) {
       selected[i] = 1;
       for (uint32_t v : t) ++count[v];

@@ -5,8 +5,8 @@
 // the view graph): a shared pair carries the relative scale from one triplet to the other,
 // a single shared image does not. Selection works in three steps:
 //   1. Order the candidates best first (score, then image ids).
-//   2. Greedy cap: take a triplet if any of its images is still in fewer than K selected
-//      triplets. Every image of a candidate therefore ends in >= min(K, its candidates)
+//   2. Greedy cap: take the locked triplets, then a triplet if any of its images is still in
+//      fewer than K selected triplets. Every image of a candidate therefore ends in >= min(K, its candidates)
 //      triplets (coverage), and at most K x #images triplets are taken.
 //   3. Connectivity repair: while a connected component of the candidate graph holds
 //      several selected components, a 0-1 breadth-first search from the largest one (cost
@@ -25,6 +25,7 @@ struct TripletCandidate {
   std::array<uint32_t, 3> image_ids{};  // sorted ascending
   double score = 0.0;                   // higher is better
   bool excluded = false;                // not available (failed estimation)
+  bool locked = false;                  // selected in any case (kept from an earlier round)
 };
 
 // Selected candidate indices, ascending. max_per_image <= 0 selects every available

@@ -177,8 +177,8 @@ std::vector<Triplet> BuildTriplets(const Reconstruction& tracks, const std::vect
     }
   }
 
-  // Select -> estimate the newly selected -> reselect with estimated scores and without the
-  // failures, until the selection is fully estimated.
+  // Select -> estimate the newly selected -> select again keeping the estimated ones and
+  // replacing the failures, until the selection is fully estimated.
   const int max_per_image = options.selection ? options.max_triplets_per_image : 0;
   std::vector<size_t> selected;
   for (int round = 0;; ++round) {
@@ -186,6 +186,7 @@ std::vector<Triplet> BuildTriplets(const Reconstruction& tracks, const std::vect
     for (size_t i = 0; i < candidates.size(); ++i) {
       view[i].image_ids = candidates[i].ids;
       view[i].excluded = candidates[i].state == State::kFailed;
+      view[i].locked = candidates[i].state == State::kEstimated;
       view[i].score = candidates[i].state == State::kEstimated ? candidates[i].estimate.score : candidates[i].prior_score;
     }
     selected = SelectTriplets(view, max_per_image);

@@ -6,10 +6,11 @@
 //   estimation  = triplet_estimation.h, parallel over triplets (TBB, one result slot each);
 //   selection   = triplet_selection.h (on by default): candidates are scored before
 //                 estimation (tracks seen by all three views x pair angles), the selected
-//                 ones estimated, failures replaced by the next best candidates, and the
-//                 final selection redone on the estimated scores, until every selected
-//                 triplet is estimated. Only selected triplets are ever estimated, which
-//                 keeps large, highly overlapping sets tractable.
+//                 ones estimated, then selection is run again with the estimated ones
+//                 locked in and the failures excluded, which adds the next best candidates
+//                 where a failure left an image under-covered or the graph disconnected;
+//                 until every selected triplet is estimated. Only selected triplets are
+//                 ever estimated, which keeps large, highly overlapping sets tractable.
 //
 // Local frame of every returned Triplet (the gauge): image_ids ascending,
 // local_poses[0] = identity, |C(local_poses[1]) - C(local_poses[0])| = 1; track_ids are the
