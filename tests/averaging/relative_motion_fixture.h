@@ -201,16 +201,37 @@ inline std::vector<double> RotationErrorsDeg(const std::map<uint32_t, Eigen::Mat
   return err;
 }
 
-// Centre errors after Sim(3) alignment (Umeyama) of the estimate to the truth.
+// Centre errors after Sim(3) alignment (Umeyama) of the estimate to the truth. Collinear
+// centres leave Umeyama's rotation undetermined: then, if the estimated rotations are given,
+// the alignment rotation comes from them (X_gt = s A X_est + t with R_est = R_gt A) and the
+// scale and translation from the centres.
 inline std::vector<double> CentreErrorsRel(const std::map<uint32_t, Eigen::Vector3d>& est,
-                                           const std::map<uint32_t, Pose>& gt, double extent) {
+                                           const std::map<uint32_t, Pose>& gt, double extent,
+                                           const std::map<uint32_t, Eigen::Matrix3d>* est_rotations = nullptr) {
   std::vector<Eigen::Vector3d> src, dst;
   for (const auto& [id, C] : est) {
     src.push_back(C);
     dst.push_back(gt.at(id).C());
   }
   Sim3 align;
-  if (!EstimateSim3(src, dst, &align)) return std::vector<double>(est.size(), 1e9);
+  if (!EstimateSim3(src, dst, &align)) {
+    if (!est_rotations) return std::vector<double>(est.size(), 1e9);
+    Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
+    for (const auto& [id, C] : est) sum += gt.at(id).R().transpose() * est_rotations->at(id);
+    align.R = ClosestRotation(sum);
+    Eigen::Vector3d ms = Eigen::Vector3d::Zero(), md = Eigen::Vector3d::Zero();
+    for (size_t k = 0; k < src.size(); ++k) {
+      ms += src[k] / src.size();
+      md += dst[k] / src.size();
+    }
+    double num = 0.0, den = 0.0;
+    for (size_t k = 0; k < src.size(); ++k) {
+      num += (dst[k] - md).dot(align.R * (src[k] - ms));
+      den += (src[k] - ms).squaredNorm();
+    }
+    align.s = num / den;
+    align.t = md - align.s * align.R * ms;
+  }
   std::vector<double> err;
   for (size_t k = 0; k < src.size(); ++k) err.push_back((align.Apply(src[k]) - dst[k]).norm() / extent);
   return err;
