@@ -49,6 +49,24 @@ void CheckImageIds(const Reconstruction& tracks, const std::vector<TwoViewGeomet
     for (uint32_t id : triplets[t].image_ids) check(id, "triplet " + std::to_string(t));
 }
 
+bool IsUsable(const TwoViewGeometry& p) {
+  return p.image_id1 != p.image_id2 && p.R_21.allFinite() &&
+         (p.R_21 * p.R_21.transpose() - Eigen::Matrix3d::Identity()).norm() < 1e-6 && p.t_21.allFinite() &&
+         p.t_21.norm() > 0.0;
+}
+
+// Distinct images, finite local poses and a non-zero baseline.
+bool IsUsable(const Triplet& t) {
+  if (!HasDistinctImages(t)) return false;
+  double baseline = 0.0, magnitude = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    if (!t.local_poses[k].q().coeffs().allFinite() || !t.local_poses[k].t().allFinite()) return false;
+    baseline = std::max(baseline, (t.local_poses[k].C() - t.local_poses[(k + 1) % 3].C()).norm());
+    magnitude = std::max(magnitude, t.local_poses[k].C().norm());
+  }
+  return baseline > 1e-9 * magnitude && baseline > 0.0;  // coincident centres up to round-off
+}
+
 }  // namespace
 
 GlobalInitResult RunGlobalInitialisation(const Reconstruction& tracks, const std::vector<TwoViewGeometry>& pairs_in,
@@ -63,8 +81,17 @@ GlobalInitResult RunGlobalInitialisation(const Reconstruction& tracks, const std
   stats.pairs_input = static_cast<int>(pairs_in.size());
   stats.triplets_input = static_cast<int>(triplets_in.size());
 
-  std::vector<TwoViewGeometry> pairs = pairs_in;
-  std::vector<Triplet> triplets = triplets_in;
+  std::vector<TwoViewGeometry> pairs;
+  for (const TwoViewGeometry& p : pairs_in)
+    if (IsUsable(p)) pairs.push_back(p);
+  std::vector<Triplet> triplets;
+  for (const Triplet& t : triplets_in)
+    if (IsUsable(t)) triplets.push_back(t);
+  stats.pairs_invalid = static_cast<int>(pairs_in.size() - pairs.size());
+  stats.triplets_invalid = static_cast<int>(triplets_in.size() - triplets.size());
+  if (stats.pairs_invalid || stats.triplets_invalid)
+    PGBA_LOG_WARN << "ignoring " << stats.pairs_invalid << " invalid pairs and " << stats.triplets_invalid
+                  << " invalid triplets (repeated images, non-finite values or no baseline)";
   if (options.outliers.fraction > 0.0) {
     const OutlierInjectionResult injected = InjectRotationOutliers(options.outliers, &pairs, &triplets);
     stats.pairs_corrupted = static_cast<int>(injected.pairs.size());
@@ -192,7 +219,9 @@ nlohmann::json GlobalInitReport(const GlobalInitResult& result) {
   j["pairs_input"] = s.pairs_input;
   j["triplets_input"] = s.triplets_input;
   j["triplets_kept"] = s.triplets_kept;
-  j["triplets_dropped"] = {{"outside_component", s.triplets_outside_component},
+  j["pairs_invalid"] = s.pairs_invalid;
+  j["triplets_dropped"] = {{"invalid", s.triplets_invalid},
+                           {"outside_component", s.triplets_outside_component},
                            {"rotation_outlier", s.triplets_rotation_outliers},
                            {"centre_outlier", s.triplets_centre_outliers}};
   j["outliers_injected"] = {{"pairs", s.pairs_corrupted}, {"triplets", s.triplets_corrupted}};

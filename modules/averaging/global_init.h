@@ -2,6 +2,8 @@
 // triplets): rotation averaging, translation averaging and the triplets' global->local
 // similarities, on the largest triplet component.
 //
+//   0. unusable pairs and triplets (repeated images, non-finite values, no baseline) are
+//      ignored and counted;
 //   1. optional outlier injection (sensitivity experiment);
 //   2. keep the largest component of the triplet graph (triplets sharing an image pair);
 //      images outside it are dropped and named;
@@ -49,7 +51,11 @@ struct GlobalInitStats {
   int pairs_input = 0;
   int triplets_input = 0;
   int triplets_kept = 0;
-  // Counted reasons for dropping triplets.
+  // Pairs ignored for repeated images or non-finite / non-rotation values.
+  int pairs_invalid = 0;
+  // Counted reasons for dropping triplets: repeated images, non-finite values or coincident
+  // local centres; outside the largest component; rotation or centre misfit.
+  int triplets_invalid = 0;
   int triplets_outside_component = 0;
   int triplets_rotation_outliers = 0;
   int triplets_centre_outliers = 0;

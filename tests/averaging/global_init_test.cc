@@ -168,6 +168,34 @@ TEST(GlobalInit, NoTriplets) {
   EXPECT_FALSE(empty.success);
 }
 
+// Unusable relative motions are ignored and counted; pure garbage finishes without a crash.
+TEST(GlobalInit, BadInputNeverCrashes) {
+  const test::GroundTruth gt = test::MakeLayout(test::Layout::kVideo, 3);
+  test::RelativeMotions m = test::MakeRelativeMotions(gt, test::NoiseModel(), 4);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  m.pairs[0].R_21(0, 0) = nan;
+  m.pairs[1].t_21.setZero();
+  m.pairs[2].image_id2 = m.pairs[2].image_id1;
+  m.triplets[0].local_poses[1] = Pose::FromRC(Eigen::Matrix3d::Identity(), Eigen::Vector3d(nan, 0, 0));
+  m.triplets[1].image_ids[2] = m.triplets[1].image_ids[0];
+  for (Pose& p : m.triplets[2].local_poses) p = Pose::FromRC(p.R(), Eigen::Vector3d(1, 2, 3));
+  const GlobalInitResult r = RunGlobalInitialisation(test::MakeTracks(gt), m.pairs, m.triplets, GlobalInitOptions());
+  ASSERT_TRUE(r.success);
+  EXPECT_EQ(r.stats.pairs_invalid, 3);
+  EXPECT_EQ(r.stats.triplets_invalid, 3);
+  EXPECT_EQ(r.poses.size(), gt.poses.size());
+  EXPECT_LT(Measure(r, gt).rot_median, 0.1);
+
+  // Every rotation and every local centre random.
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> n(0.0, 1.0);
+  for (TwoViewGeometry& p : m.pairs) p.R_21 = RandomRotation(rng);
+  for (Triplet& t : m.triplets)
+    for (Pose& p : t.local_poses) p = Pose::FromRC(RandomRotation(rng), Eigen::Vector3d(n(rng), n(rng), n(rng)));
+  const GlobalInitResult g = RunGlobalInitialisation(test::MakeTracks(gt), m.pairs, m.triplets, GlobalInitOptions());
+  EXPECT_EQ(g.poses.size() + g.images_dropped.size(), gt.poses.size());
+}
+
 TEST(GlobalInit, UnknownImageIdIsInputError) {
   const test::GroundTruth gt = test::MakeLayout(Layout::kOrbit, 1);
   test::RelativeMotions m = test::MakeRelativeMotions(gt, test::NoiseModel(), 1);
