@@ -20,36 +20,35 @@ double Median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-// Step 1: log S_u - log S_t = log|v^t_ab| - log|v^u_ab| for triplets t, u sharing (a, b).
+// Step 1: every baseline of triplet t observes the length l_ab of the pair (a, b):
+// log l_ab - log S_t = log|v^t_ab|. Unknowns: log S_t per triplet and log l_ab per image
+// pair, a difference system on the bipartite triplet-pair graph (sparse: each triplet has
+// three neighbours), connected exactly when the triplets are connected through shared pairs.
 bool SolveTripletSizes(const std::vector<TripletBaseline>& baselines, int num_triplets,
                        const TranslationAveragingOptions& options, std::vector<double>* sizes,
                        TranslationAveragingSummary* summary) {
-  std::map<std::pair<int, int>, std::vector<int>> by_pair;  // image pair -> baselines
-  for (int k = 0; k < static_cast<int>(baselines.size()); ++k)
-    if (baselines[k].v.norm() > 1e-9) by_pair[std::minmax(baselines[k].a, baselines[k].b)].push_back(k);
+  std::map<std::pair<int, int>, int> pair_node;  // image pair -> node after the triplets
   std::vector<DifferenceEdge> edges;
   std::vector<double> obs, prior;
-  for (const auto& [pair, list] : by_pair) {
-    for (size_t x = 0; x < list.size(); ++x)
-      for (size_t y = x + 1; y < list.size() && y <= x + options.max_scale_links_per_pair; ++y) {
-        const TripletBaseline& p = baselines[list[x]];
-        const TripletBaseline& q = baselines[list[y]];
-        const double lp = p.v.norm(), lq = q.v.norm();
-        edges.push_back({p.triplet, q.triplet, 0.0});
-        obs.push_back(std::log(lp) - std::log(lq));
-        // A short baseline (relative to its triplet) has a noisy length.
-        prior.push_back(std::pow(std::min(lp, lq), 2));
-      }
+  for (const TripletBaseline& bl : baselines) {
+    const double length = bl.v.norm();  // relative to the triplet's largest baseline
+    if (!(length > 1e-9)) continue;
+    auto [it, inserted] = pair_node.emplace(std::minmax(bl.a, bl.b), num_triplets + static_cast<int>(pair_node.size()));
+    edges.push_back({bl.triplet, it->second, 0.0});
+    obs.push_back(std::log(length));
+    // A short baseline (relative to its triplet) has a noisy length.
+    prior.push_back(length * length);
   }
   summary->scale_links = static_cast<int>(edges.size());
+  const int num_nodes = num_triplets + static_cast<int>(pair_node.size());
   const Eigen::Map<const Eigen::VectorXd> b(obs.data(), obs.size());
-  Eigen::MatrixXd x = Eigen::MatrixXd::Zero(num_triplets, 1), x_new;
-  for (int it = 0; it < std::max(1, options.max_irls_iterations); ++it) {
+  Eigen::MatrixXd x = Eigen::MatrixXd::Zero(num_nodes, 1), x_new;
+  for (int it = 0; it < options.max_irls_iterations; ++it) {
     for (size_t e = 0; e < edges.size(); ++e) {
       const double r = obs[e] - (x(edges[e].j, 0) - x(edges[e].i, 0));
       edges[e].weight = prior[e] * IrlsWeight(options.scale_loss, r, options.scale_loss_scale);
     }
-    if (!SolveDifferenceSystem(num_triplets, edges, b, 0, &x_new)) return false;
+    if (!SolveDifferenceSystem(num_nodes, edges, b, 0, &x_new)) return false;
     const double change = (x_new - x).cwiseAbs().maxCoeff();
     x = x_new;
     ++summary->scale_iterations;
@@ -108,7 +107,6 @@ void ValidateTranslationAveragingOptions(const TranslationAveragingOptions& o) {
   auto bad = [](const std::string& what) { throw InputError("translation averaging options: " + what); };
   if (!(o.scale_loss_scale > 0) || !(o.centre_loss_scale > 0) || !(o.refine_huber > 0))
     bad("loss scales must be > 0");
-  if (o.max_scale_links_per_pair < 1) bad("max_scale_links_per_pair must be >= 1");
   if (o.max_irls_iterations < 1 || o.max_refine_iterations < 0) bad("iteration counts must be positive");
   if (!(o.irls_tolerance > 0)) bad("irls_tolerance must be > 0");
   if (!(o.pair_weight >= 0) || !(o.triplet_weight > 0)) bad("weights must be positive");

@@ -13,10 +13,10 @@
 // rotation alpha_t (similarity.h), the relative centre
 //     C_b - C_a = S_t v_ab,   v_ab = alpha_t^T (c_b - c_a) / L_t,
 // with L_t its largest local baseline and S_t its unknown size in the global frame.
-//   1. Scales: two triplets sharing the pair (a, b) see the same baseline, hence
-//      log S_u - log S_t = log|v^t_ab| - log|v^u_ab|: a robust (IRLS) difference system on
-//      the triplet graph (gauge: the first triplet). Ratios of lengths do not depend on the
-//      rotations, so this step is immune to rotation errors.
+//   1. Scales: every triplet sharing the pair (a, b) sees the same baseline length l_ab,
+//      hence log l_ab - log S_t = log|v^t_ab|: a robust (IRLS) difference system on the
+//      bipartite graph of triplets and image pairs (gauge: the first triplet). Ratios of
+//      lengths do not depend on the rotations, so this step is immune to rotation errors.
 //   2. Centres: with S_t known, C_b - C_a = S_t v_ab is linear: a robust IRLS difference
 //      system on the images, each residual measured relative to its triplet's size S_t
 //      (gauge: one centre). Robust loss Huber by default.
@@ -52,16 +52,16 @@ struct TranslationAveragingOptions {
   // Step 1: robust loss of the log-scale residuals (dimensionless, 0.05 ~ 5%).
   RobustLoss scale_loss = RobustLoss::kHuber;
   double scale_loss_scale = 0.05;
-  // A triplet is linked to at most this many further triplets sharing each of its pairs (all
-  // of them when fewer): bounds the scale graph on highly overlapping triplet sets.
-  int max_scale_links_per_pair = 4;
   // Step 2: robust loss of the centre residuals relative to the triplet size.
   RobustLoss centre_loss = RobustLoss::kHuber;
   double centre_loss_scale = 0.02;
   // IRLS of steps 1 and 2 stops after this many iterations or when the largest change is
-  // below this tolerance (relative to the triplet sizes / in log units).
-  int max_irls_iterations = 50;
-  double irls_tolerance = 1e-7;
+  // below this tolerance (relative to the triplet sizes / in log units). The cap is low on
+  // purpose: in the linear regime of the loss IRLS converges slowly, and what still moves
+  // after 20 iterations is the scale of outlier triplets, which the robust steps after it
+  // down-weight anyway.
+  int max_irls_iterations = 20;
+  double irls_tolerance = 1e-5;
   // Step 3: nonlinear refinement.
   bool refine = true;
   // Add the pairs' translation directions to the refinement.
@@ -74,7 +74,7 @@ struct TranslationAveragingOptions {
   int num_threads = 1;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(TranslationAveragingOptions, scale_loss, scale_loss_scale,
-                                                max_scale_links_per_pair, centre_loss, centre_loss_scale,
+                                                centre_loss, centre_loss_scale,
                                                 max_irls_iterations, irls_tolerance, refine, use_pair_directions,
                                                 pair_weight, triplet_weight, refine_huber, max_refine_iterations,
                                                 num_threads)
@@ -85,7 +85,7 @@ struct TranslationAveragingSummary {
   int num_images = 0;
   int num_triplets = 0;
   int num_pairs = 0;          // pair directions used in the refinement
-  int scale_links = 0;        // edges of the triplet scale graph
+  int scale_links = 0;        // baselines observed in the scale system
   int scale_iterations = 0;
   int centre_iterations = 0;
   int refine_iterations = 0;

@@ -66,8 +66,8 @@ int RefineCentres(const std::vector<TripletBaseline>& baselines, const std::vect
   solver_options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
   solver_options.max_num_iterations = options.max_refine_iterations;
   solver_options.num_threads = std::max(1, options.num_threads);
-  solver_options.function_tolerance = 1e-10;
-  solver_options.parameter_tolerance = 1e-10;
+  solver_options.function_tolerance = 1e-8;
+  solver_options.parameter_tolerance = 1e-8;
   solver_options.logging_type = ceres::SILENT;
   ceres::Solver::Summary summary;
   ceres::Solve(solver_options, &problem, &summary);

@@ -102,9 +102,12 @@ TEST(TranslationAveraging, RobustToCorruptedTriplets) {
     p = Pose::FromRC(p.R(), p.C() + size * RandomRotation(rng).col(0));
   }
   std::map<uint32_t, Eigen::Vector3d> C;
-  ASSERT_TRUE(AverageTranslations(m.triplets, m.pairs, AveragedRotations(m), {}, &C));
+  TranslationAveragingSummary summary;
+  ASSERT_TRUE(AverageTranslations(m.triplets, m.pairs, AveragedRotations(m), {}, &C, &summary));
   const std::vector<double> err = test::CentreErrorsRel(C, gt.poses, gt.extent);
-  std::cout << "aerial with 10% corrupted triplets: median " << test::Median(err) << " max " << test::Max(err) << "\n";
+  std::cout << "aerial with 10% corrupted triplets: median " << test::Median(err) << " max " << test::Max(err)
+            << "; " << summary.scale_iterations << " scale, " << summary.centre_iterations << " centre, "
+            << summary.refine_iterations << " refine iterations, " << summary.seconds << " s\n";
   EXPECT_LT(test::Median(err), 0.01);
 }
 
