@@ -226,6 +226,7 @@ nlohmann::json GlobalInitReport(const GlobalInitResult& result) {
                            {"centre_outlier", s.triplets_centre_outliers}};
   j["outliers_injected"] = {{"pairs", s.pairs_corrupted}, {"triplets", s.triplets_corrupted}};
   j["rotation"] = {{"observations", s.rotation.num_observations},
+                   {"seconds", s.rotation.seconds},
                    {"inliers", s.rotation.num_inliers},
                    {"l1_iterations", s.rotation.l1_iterations},
                    {"irls_iterations", s.rotation.irls_iterations},
@@ -235,6 +236,9 @@ nlohmann::json GlobalInitReport(const GlobalInitResult& result) {
                       {"pair_directions", s.translation.num_pairs},
                       {"scale_links", s.translation.scale_links},
                       {"refine_iterations", s.translation.refine_iterations},
+                      {"seconds_scales", s.translation.seconds_scales},
+                      {"seconds_centres", s.translation.seconds_centres},
+                      {"seconds_refine", s.translation.seconds_refine},
                       {"residual_median_rel", s.translation.residual_median_rel}};
   return j;
 }

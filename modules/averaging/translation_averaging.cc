@@ -162,13 +162,18 @@ bool AverageTranslations(const std::vector<Triplet>& triplets, const std::vector
   summary.num_images = static_cast<int>(ids.size());
   summary.num_triplets = num_triplets;
 
+  Timer step;
   std::vector<double> S;
   if (!SolveTripletSizes(baselines, num_triplets, options, &S, &summary))
     return finish(false, "the triplets are not connected through shared image pairs");
+  summary.seconds_scales = step.Seconds();
+  step.Restart();
   Eigen::MatrixXd C;
   if (!SolveCentres(baselines, static_cast<int>(ids.size()), S, options, &C, &summary))
     return finish(false, "singular centre system");
 
+  summary.seconds_centres = step.Seconds();
+  step.Restart();
   if (options.refine) {
     std::vector<PairDirection> directions;
     if (options.use_pair_directions) {
@@ -190,6 +195,7 @@ bool AverageTranslations(const std::vector<Triplet>& triplets, const std::vector
                                               fixed_triplet, &C, &S);
     if (!C.allFinite()) return finish(false, "refinement diverged");
   }
+  summary.seconds_refine = step.Seconds();
   summary.residual_median_rel = Median(RelativeResiduals(baselines, C, S));
 
   // Gauge: centroid 0 and median lambda_t = 1, lambda_t = L_t / S_t being the global->local

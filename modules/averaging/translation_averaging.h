@@ -92,6 +92,9 @@ struct TranslationAveragingSummary {
   // Median over the triplets' baselines of |C_b - C_a - S_t v_ab| / S_t at the end.
   double residual_median_rel = 0.0;
   double seconds = 0.0;
+  double seconds_scales = 0.0;   // step 1
+  double seconds_centres = 0.0;  // step 2
+  double seconds_refine = 0.0;   // step 3
 };
 
 // Throws InputError for invalid options.

@@ -63,7 +63,20 @@ int RefineCentres(const std::vector<TripletBaseline>& baselines, const std::vect
   if (problem.HasParameterBlock(&sigma[fixed_triplet])) problem.SetParameterBlockConstant(&sigma[fixed_triplet]);
 
   ceres::Solver::Options solver_options;
-  solver_options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+  // The inverse scales are eliminated first (each touches two centres): the reduced system is
+  // over the centres only. Eigen's sparse Cholesky is single-threaded, hence deterministic.
+  solver_options.linear_solver_type = ceres::SPARSE_SCHUR;
+  solver_options.sparse_linear_algebra_library_type = ceres::EIGEN_SPARSE;
+  {
+    auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+    for (double& s : sigma)
+      if (problem.HasParameterBlock(&s)) ordering->AddElementToGroup(&s, 0);
+    for (double& s : pair_sigma)
+      if (problem.HasParameterBlock(&s)) ordering->AddElementToGroup(&s, 0);
+    for (Eigen::Vector3d& c : C)
+      if (problem.HasParameterBlock(c.data())) ordering->AddElementToGroup(c.data(), 1);
+    solver_options.linear_solver_ordering = ordering;
+  }
   solver_options.max_num_iterations = options.max_refine_iterations;
   solver_options.num_threads = std::max(1, options.num_threads);
   solver_options.function_tolerance = 1e-8;
