@@ -40,7 +40,8 @@ void from_json(const nlohmann::json& j, OutlierTarget& target) {
   else if (s == "both")
     target = OutlierTarget::kBoth;
   else
-    throw InputError("unknown outlier target '" + s + "' (expected pairs, triplets or both)");
+    throw nlohmann::json::type_error::create(
+        302, "unknown outlier target '" + s + "' (expected pairs, triplets or both)", &j);
 }
 
 OutlierInjectionResult InjectRotationOutliers(const OutlierInjectionOptions& options,

@@ -24,7 +24,7 @@ struct OutlierInjectionOptions {
   uint64_t seed = 1;
 };
 void to_json(nlohmann::json& j, const OutlierTarget& target);
-void from_json(const nlohmann::json& j, OutlierTarget& target);  // InputError if unknown
+void from_json(const nlohmann::json& j, OutlierTarget& target);  // json type_error if unknown
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(OutlierInjectionOptions, fraction, target, seed)
 
 struct OutlierInjectionResult {

@@ -53,9 +53,15 @@ RobustLoss ParseRobustLoss(const std::string& name) {
 
 void to_json(nlohmann::json& j, const RobustLoss& loss) { j = RobustLossName(loss); }
 
+// A JSON exception (not InputError): the config reader (io/json_config.h) turns it into an
+// InputError naming the file and the section.
 void from_json(const nlohmann::json& j, RobustLoss& loss) {
-  if (!j.is_string()) throw InputError("robust loss must be a string, got " + j.dump());
-  loss = ParseRobustLoss(j.get<std::string>());
+  try {
+    if (!j.is_string()) throw InputError("robust loss must be a string, got " + j.dump());
+    loss = ParseRobustLoss(j.get<std::string>());
+  } catch (const InputError& e) {
+    throw nlohmann::json::type_error::create(302, e.what(), &j);
+  }
 }
 
 }  // namespace pgba

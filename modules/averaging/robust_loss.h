@@ -28,6 +28,8 @@ const char* RobustLossName(RobustLoss loss);
 RobustLoss ParseRobustLoss(const std::string& name);
 
 void to_json(nlohmann::json& j, const RobustLoss& loss);
+// Unknown names throw nlohmann::json::type_error (reported with file and section by the
+// config reader).
 void from_json(const nlohmann::json& j, RobustLoss& loss);
 
 }  // namespace pgba

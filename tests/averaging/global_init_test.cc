@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "pgba/geometry/rotation.h"
+#include "pgba/io/json_config.h"
 #include "pgba/util/error.h"
 #include "relative_motion_fixture.h"
 
@@ -230,8 +231,26 @@ TEST(GlobalInit, OptionsFromJson) {
   EXPECT_FALSE(o.translation.refine);
   EXPECT_EQ(o.outliers.target, OutlierTarget::kPairs);
   EXPECT_EQ(nlohmann::json(o).get<GlobalInitOptions>().rotation.loss, RobustLoss::kLHalf);
-  EXPECT_THROW(nlohmann::json::parse(R"({"rotation": {"loss": "cauchy"}})").get<GlobalInitOptions>(), InputError);
-  EXPECT_THROW(nlohmann::json::parse(R"({"outliers": {"target": "all"}})").get<GlobalInitOptions>(), InputError);
+  EXPECT_THROW(nlohmann::json::parse(R"({"rotation": {"loss": "cauchy"}})").get<GlobalInitOptions>(),
+               nlohmann::json::exception);
+  EXPECT_THROW(nlohmann::json::parse(R"({"outliers": {"target": "all"}})").get<GlobalInitOptions>(),
+               nlohmann::json::exception);
+  // Through the config reader: InputError naming the file.
+  GlobalInitOptions read;
+  ReadSection(Config::Parse(R"({"averaging": {"rotation": {"loss_scale_deg": 2.5}}})", "cfg.json"), "averaging",
+              &read);
+  EXPECT_EQ(read.rotation.loss_scale_deg, 2.5);
+  EXPECT_EQ(read.rotation.loss, RobustLoss::kGemanMcClure);
+  try {
+    ReadSection(Config::Parse(R"({"averaging": {"rotation": {"loss": "cauchy"}}})", "cfg.json"), "averaging", &read);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("cfg.json"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("cauchy"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(ReadSection(Config::Parse(R"({"averaging": {"rotation": {"los": "l1"}}})", "cfg.json"), "averaging",
+                           &read),
+               InputError);
   GlobalInitOptions bad;
   bad.rotation.loss_scale_deg = -1;
   EXPECT_THROW(RunGlobalInitialisation(Reconstruction(), {}, {}, bad), InputError);
