@@ -1,0 +1,96 @@
+// Global initialisation from relative motions (the `pgba init` stage after pairs and
+// triplets): rotation averaging, translation averaging and the triplets' global->local
+// similarities, on the largest triplet component.
+//
+//   0. unusable pairs and triplets (repeated images, non-finite values, no baseline) are
+//      ignored and counted;
+//   1. optional outlier injection (sensitivity experiment);
+//   2. keep the largest component of the triplet graph (triplets sharing an image pair);
+//      images outside it are dropped and named;
+//   3. rotation averaging over the pairs inside the component and the triplets;
+//   4. triplets whose local rotations disagree with the averaged ones are dropped (and the
+//      component recomputed);
+//   5. translation averaging;
+//   6. similarities of the kept triplets; triplets whose centres do not fit are dropped (and
+//      the component recomputed once more).
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "averaging/outlier_injection.h"
+#include "averaging/rotation_averaging.h"
+#include "averaging/translation_averaging.h"
+#include "pgba/geometry/pose.h"
+#include "pgba/scene/reconstruction.h"
+#include "pgba/scene/view_graph.h"
+
+namespace pgba {
+
+struct GlobalInitOptions {
+  RotationAveragingOptions rotation;
+  TranslationAveragingOptions translation;
+  // A triplet is dropped before translation averaging if one of its local rotations r_k
+  // differs from R_k alpha^T by more than this (degrees); <= 0 keeps every triplet (the
+  // sensitivity experiment hands its outliers to the global BA on purpose).
+  double max_triplet_rotation_error_deg = 5.0;
+  // A triplet is dropped at the end if its centres misfit its similarity by more than this
+  // fraction of its local size (RMS); <= 0 keeps every triplet.
+  double max_triplet_centre_error = 0.1;
+  OutlierInjectionOptions outliers;
+};
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(GlobalInitOptions, rotation, translation,
+                                                max_triplet_rotation_error_deg, max_triplet_centre_error, outliers)
+
+struct GlobalInitStats {
+  int images_input = 0;
+  int images_registered = 0;
+  int pairs_input = 0;
+  int triplets_input = 0;
+  int triplets_kept = 0;
+  // Pairs ignored for repeated images or non-finite / non-rotation values.
+  int pairs_invalid = 0;
+  // Counted reasons for dropping triplets: repeated images, non-finite values or coincident
+  // local centres; outside the largest component; rotation or centre misfit.
+  int triplets_invalid = 0;
+  int triplets_outside_component = 0;
+  int triplets_rotation_outliers = 0;
+  int triplets_centre_outliers = 0;
+  int pairs_corrupted = 0;
+  int triplets_corrupted = 0;
+  RotationAveragingSummary rotation;
+  TranslationAveragingSummary translation;
+  double seconds_rotation = 0.0;
+  double seconds_translation = 0.0;
+  double seconds_similarity = 0.0;
+  double seconds_total = 0.0;
+};
+
+struct GlobalInitResult {
+  bool success = false;
+  std::string message;
+  // Global world->camera poses of the registered images.
+  std::map<uint32_t, Pose> poses;
+  // The kept triplets (input order), Triplet::global_to_local filled (paper eq. 4).
+  std::vector<Triplet> triplets;
+  // Images of `tracks` without a pose, by id and by name (same order).
+  std::vector<uint32_t> dropped_image_ids;
+  std::vector<std::string> images_dropped;
+  GlobalInitStats stats;
+};
+
+// Throws InputError for invalid options, or if a pair or triplet names an image id that is
+// not in `tracks`. Never throws for a graph that falls apart: the result then covers the
+// largest component (success = false and every image dropped if there is no usable
+// triplet).
+GlobalInitResult RunGlobalInitialisation(const Reconstruction& tracks, const std::vector<TwoViewGeometry>& pairs,
+                                         const std::vector<Triplet>& triplets, const GlobalInitOptions& options);
+
+// The stage's entry of report.json: {"seconds", "images_registered", "images_dropped": [names],
+// "triplets_kept", "triplets_dropped": {reason: count}, "rotation": {...}, "translation": {...}}.
+nlohmann::json GlobalInitReport(const GlobalInitResult& result);
+
+}  // namespace pgba

@@ -1,0 +1,41 @@
+#include "averaging/relative_rotations.h"
+
+#include "averaging/connectivity.h"
+
+namespace pgba {
+
+std::vector<RelativeRotation> CollectRelativeRotations(const std::vector<TwoViewGeometry>& pairs,
+                                                       const std::vector<Triplet>& triplets,
+                                                       const RelativeRotationOptions& options) {
+  std::vector<RelativeRotation> out;
+  if (options.use_pairs) {
+    for (const TwoViewGeometry& p : pairs) {
+      if (p.image_id1 == p.image_id2) continue;
+      RelativeRotation r;
+      r.image_id1 = p.image_id1;
+      r.image_id2 = p.image_id2;
+      r.R_21 = p.R_21;
+      r.weight = options.pair_weight;
+      r.support = p.num_inliers;
+      out.push_back(r);
+    }
+  }
+  if (options.use_triplets) {
+    for (const Triplet& t : triplets) {
+      if (!HasDistinctImages(t)) continue;
+      for (int a = 0; a < 3; ++a)
+        for (int b = a + 1; b < 3; ++b) {
+          RelativeRotation r;
+          r.image_id1 = t.image_ids[a];
+          r.image_id2 = t.image_ids[b];
+          r.R_21 = t.local_poses[b].R() * t.local_poses[a].R().transpose();
+          r.weight = options.triplet_weight * 2.0 / 3.0;
+          r.support = static_cast<double>(t.track_ids.size());
+          out.push_back(r);
+        }
+    }
+  }
+  return out;
+}
+
+}  // namespace pgba

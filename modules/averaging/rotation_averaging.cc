@@ -1,0 +1,229 @@
+#include "averaging/rotation_averaging.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <queue>
+
+#include "averaging/connectivity.h"
+#include "averaging/difference_system.h"
+#include "pgba/geometry/rotation.h"
+#include "pgba/util/error.h"
+#include "pgba/util/logging.h"
+#include "pgba/util/timer.h"
+
+namespace pgba {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+// The observations re-indexed on dense node numbers.
+struct Graph {
+  std::vector<uint32_t> ids;  // node -> image id (ascending)
+  std::vector<int> i, j;      // per observation
+  std::vector<Eigen::Matrix3d> R_ij;
+  std::vector<double> prior, support;
+};
+
+Graph BuildGraph(const std::vector<RelativeRotation>& observations) {
+  std::map<uint32_t, int> index;
+  for (const RelativeRotation& o : observations) {
+    index.emplace(o.image_id1, 0);
+    index.emplace(o.image_id2, 0);
+  }
+  Graph g;
+  for (auto& [id, n] : index) {
+    n = static_cast<int>(g.ids.size());
+    g.ids.push_back(id);
+  }
+  for (const RelativeRotation& o : observations) {
+    if (o.image_id1 == o.image_id2 || !(o.weight > 0.0) || !o.R_21.allFinite()) continue;
+    g.i.push_back(index[o.image_id1]);
+    g.j.push_back(index[o.image_id2]);
+    g.R_ij.push_back(o.R_21);
+    g.prior.push_back(o.weight);
+    g.support.push_back(std::max(o.support, 0.0));
+  }
+  return g;
+}
+
+// Node with the largest total support (ties: smallest id).
+int GaugeNode(const Graph& g) {
+  std::vector<double> total(g.ids.size(), 0.0);
+  for (size_t e = 0; e < g.i.size(); ++e) {
+    total[g.i[e]] += g.support[e] + g.prior[e];
+    total[g.j[e]] += g.support[e] + g.prior[e];
+  }
+  return static_cast<int>(std::max_element(total.begin(), total.end()) - total.begin());
+}
+
+// Stage 1: chain the observations of a maximum spanning tree (weight = support) from the
+// gauge node. Several observations of one image pair: the best supported one is used.
+std::vector<Eigen::Matrix3d> SpanningTreeInit(const Graph& g, int root) {
+  const int n = static_cast<int>(g.ids.size());
+  std::vector<WeightedEdge> edges(g.i.size());
+  for (size_t e = 0; e < g.i.size(); ++e) edges[e] = {g.i[e], g.j[e], g.support[e] + 1e-9 * g.prior[e]};
+  std::vector<std::vector<int>> adjacent(n);
+  for (int e : MaximumSpanningForest(n, edges)) {
+    adjacent[g.i[e]].push_back(e);
+    adjacent[g.j[e]].push_back(e);
+  }
+  std::vector<Eigen::Matrix3d> R(n, Eigen::Matrix3d::Identity());
+  std::vector<bool> done(n, false);
+  std::queue<int> queue;
+  queue.push(root);
+  done[root] = true;
+  while (!queue.empty()) {
+    const int a = queue.front();
+    queue.pop();
+    for (int e : adjacent[a]) {
+      const bool forward = g.i[e] == a;  // R_j = R_ij R_i
+      const int b = forward ? g.j[e] : g.i[e];
+      if (done[b]) continue;
+      R[b] = forward ? Eigen::Matrix3d(g.R_ij[e] * R[a]) : Eigen::Matrix3d(g.R_ij[e].transpose() * R[a]);
+      done[b] = true;
+      queue.push(b);
+    }
+  }
+  return R;
+}
+
+// e_ij = Log(R_j^T R_ij R_i) for every observation (parallel, one slot per observation).
+Eigen::MatrixXd Residuals(const Graph& g, const std::vector<Eigen::Matrix3d>& R) {
+  Eigen::MatrixXd e(g.i.size(), 3);
+  tbb::parallel_for(size_t(0), g.i.size(), [&](size_t k) {
+    e.row(k) = LogSO3(R[g.j[k]].transpose() * g.R_ij[k] * R[g.i[k]]).transpose();
+  });
+  return e;
+}
+
+// R_i <- R_i Exp(x_i); returns the largest |x_i| (radians).
+double ApplyUpdate(const Eigen::MatrixXd& x, std::vector<Eigen::Matrix3d>* R) {
+  double step = 0.0;
+  for (size_t n = 0; n < R->size(); ++n) {
+    const Eigen::Vector3d w = x.row(n).transpose();
+    (*R)[n] = ClosestRotation((*R)[n] * ExpSO3(w));
+    step = std::max(step, w.norm());
+  }
+  return step;
+}
+
+std::vector<DifferenceEdge> Edges(const Graph& g, const std::vector<double>& weights) {
+  std::vector<DifferenceEdge> edges(g.i.size());
+  for (size_t e = 0; e < g.i.size(); ++e) edges[e] = {g.i[e], g.j[e], weights[e]};
+  return edges;
+}
+
+// One relinearisation of the L1 stage: min_x sum_e prior_e |e_e - (x_j - x_i)| by inner
+// IRLS with weights 1 / |r_e|.
+bool SolveLinearisedL1(const Graph& g, const Eigen::MatrixXd& e, int inner, double scale, int gauge,
+                       Eigen::MatrixXd* x) {
+  const int n = static_cast<int>(g.ids.size());
+  *x = Eigen::MatrixXd::Zero(n, 3);
+  std::vector<double> w(g.i.size());
+  for (int it = 0; it < inner; ++it) {
+    for (size_t k = 0; k < g.i.size(); ++k) {
+      const double r = (e.row(k) - (x->row(g.j[k]) - x->row(g.i[k]))).norm();
+      w[k] = g.prior[k] * IrlsWeight(RobustLoss::kL1, r, scale);
+    }
+    if (!SolveDifferenceSystem(n, Edges(g, w), e, gauge, x)) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+void ValidateRotationAveragingOptions(const RotationAveragingOptions& o) {
+  auto bad = [](const std::string& what) { throw InputError("rotation averaging options: " + what); };
+  if (!(o.loss_scale_deg > 0)) bad("loss_scale_deg must be > 0");
+  if (!(o.step_tolerance_deg > 0) || !(o.l1_step_tolerance_deg > 0)) bad("step tolerances must be > 0");
+  if (o.max_l1_iterations < 0 || o.l1_inner_iterations < 1 || o.max_irls_iterations < 0)
+    bad("iteration counts must be >= 0 (l1_inner_iterations >= 1)");
+  if (!(o.observations.pair_weight >= 0) || !(o.observations.triplet_weight >= 0))
+    bad("observation weights must be >= 0");
+}
+
+double RelativeRotationResidualDeg(const RelativeRotation& o, const std::map<uint32_t, Eigen::Matrix3d>& rotations) {
+  const Eigen::Matrix3d& R1 = rotations.at(o.image_id1);
+  const Eigen::Matrix3d& R2 = rotations.at(o.image_id2);
+  return RotationAngleDeg(o.R_21 * R1, R2);
+}
+
+bool AverageRotations(const std::vector<RelativeRotation>& observations, const RotationAveragingOptions& options,
+                      std::map<uint32_t, Eigen::Matrix3d>* rotations, RotationAveragingSummary* summary_out) {
+  ValidateRotationAveragingOptions(options);
+  Timer timer;
+  RotationAveragingSummary summary;
+  auto finish = [&](bool ok, const std::string& message) {
+    summary.success = ok;
+    summary.message = message;
+    summary.seconds = timer.Seconds();
+    if (summary_out) *summary_out = summary;
+    if (!ok) PGBA_LOG_WARN << "rotation averaging failed: " << message;
+    return ok;
+  };
+
+  const Graph g = BuildGraph(observations);
+  const int n = static_cast<int>(g.ids.size());
+  summary.num_images = n;
+  summary.num_observations = static_cast<int>(g.i.size());
+  if (n == 0) return finish(false, "no observations");
+  UnionFind uf(n);
+  for (size_t e = 0; e < g.i.size(); ++e) uf.Union(g.i[e], g.j[e]);
+  if (uf.SizeOf(0) != n) return finish(false, "the observation graph is not connected");
+
+  const int gauge = GaugeNode(g);
+  std::vector<Eigen::Matrix3d> R;
+  if (options.spanning_tree_init) {
+    R = SpanningTreeInit(g, gauge);
+  } else {
+    for (uint32_t id : g.ids) {
+      auto it = rotations->find(id);
+      if (it == rotations->end()) return finish(false, "no initial rotation for image " + std::to_string(id));
+      R.push_back(it->second);
+    }
+  }
+
+  const double scale = options.loss_scale_deg * kDeg;
+  Eigen::MatrixXd x;
+  // Stage 2: L1.
+  for (int it = 0; it < options.max_l1_iterations; ++it) {
+    if (!SolveLinearisedL1(g, Residuals(g, R), options.l1_inner_iterations, scale, gauge, &x))
+      return finish(false, "singular L1 system");
+    ++summary.l1_iterations;
+    if (ApplyUpdate(x, &R) < options.l1_step_tolerance_deg * kDeg) break;
+  }
+  // Stage 3: IRLS with the robust loss.
+  std::vector<double> w(g.i.size());
+  for (int it = 0; it < options.max_irls_iterations; ++it) {
+    const Eigen::MatrixXd e = Residuals(g, R);
+    for (size_t k = 0; k < g.i.size(); ++k) w[k] = g.prior[k] * IrlsWeight(options.loss, e.row(k).norm(), scale);
+    if (!SolveDifferenceSystem(n, Edges(g, w), e, gauge, &x)) return finish(false, "singular IRLS system");
+    ++summary.irls_iterations;
+    summary.last_step_deg = ApplyUpdate(x, &R) / kDeg;
+    if (summary.last_step_deg < options.step_tolerance_deg) {
+      summary.converged = true;
+      break;
+    }
+  }
+
+  // Residual statistics.
+  const Eigen::MatrixXd e = Residuals(g, R);
+  std::vector<double> deg(g.i.size());
+  for (size_t k = 0; k < g.i.size(); ++k) {
+    deg[k] = e.row(k).norm() / kDeg;
+    if (deg[k] < options.inlier_threshold_deg) ++summary.num_inliers;
+  }
+  if (!deg.empty()) {
+    std::nth_element(deg.begin(), deg.begin() + deg.size() / 2, deg.end());
+    summary.residual_median_deg = deg[deg.size() / 2];
+  }
+  for (int k = 0; k < n; ++k) (*rotations)[g.ids[k]] = R[k];
+  PGBA_LOG_INFO << "rotation averaging: " << n << " images, " << summary.num_observations << " observations, "
+                << summary.l1_iterations << " L1 + " << summary.irls_iterations << " IRLS iterations, "
+                << summary.num_inliers << " inliers, median residual " << summary.residual_median_deg << " deg";
+  return finish(true, summary.converged ? "converged" : "iteration limit reached");
+}
+
+}  // namespace pgba

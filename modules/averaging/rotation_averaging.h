@@ -1,0 +1,87 @@
+// Robust rotation averaging (Chatterjee & Govindu, "Efficient and Robust Large-Scale
+// Rotation Averaging", ICCV 2013, and "Robust Relative Rotation Averaging", TPAMI 2017).
+//
+// Unknowns: the world->camera rotation R_i of every image. Observations: relative rotations
+// R_ij ~ R_j R_i^T. With right-multiplied increments R_i <- R_i Exp(x_i) (the project's
+// convention) the residual of an observation is
+//     e_ij = Log(R_j^T R_ij R_i),   and to first order   e_ij(x) = e_ij - (x_j - x_i),
+// so every linearised step is a weighted difference system (difference_system.h) solved for
+// the three components of x at once. Stages:
+//   1. initialisation: chain the observations along a maximum spanning tree weighted by
+//      their support (inliers / tracks): the most reliable edges define the start;
+//   2. optional L1 stage (Chatterjee's L1RA): a few relinearisations, each solving the
+//      linearised L1 problem sum |e_ij(x)| by inner IRLS; it moves the estimate into the
+//      basin of the redescending loss even when the tree contains outlier edges;
+//   3. IRLS with a robust loss (Geman-McClure, sigma 5 deg by default; l1/2 available):
+//      reweight, solve, update, until the largest update is below the step tolerance.
+// Gauge: the rotation of the image with the largest total support stays fixed.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "averaging/relative_rotations.h"
+#include "averaging/robust_loss.h"
+
+namespace pgba {
+
+struct RotationAveragingOptions {
+  // Which relative rotations enter and how they are weighted.
+  RelativeRotationOptions observations;
+  // Start from the spanning-tree chaining; false: start from the rotations passed in (every
+  // image of the observations must have one).
+  bool spanning_tree_init = true;
+  // L1 stage: relinearisations (0 disables), inner IRLS-L1 solves per relinearisation, and
+  // its stopping tolerance on the largest update (degrees).
+  int max_l1_iterations = 5;
+  int l1_inner_iterations = 10;
+  double l1_step_tolerance_deg = 1e-3;
+  // Robust loss of the IRLS stage and its scale (degrees).
+  RobustLoss loss = RobustLoss::kGemanMcClure;
+  double loss_scale_deg = 5.0;
+  // IRLS stops after this many iterations or when the largest update is below the
+  // tolerance (degrees).
+  int max_irls_iterations = 100;
+  double step_tolerance_deg = 1e-5;
+  // Observations with a final residual above this count as outliers in the summary.
+  double inlier_threshold_deg = 5.0;
+};
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(RotationAveragingOptions, observations, spanning_tree_init,
+                                                max_l1_iterations, l1_inner_iterations, l1_step_tolerance_deg,
+                                                loss, loss_scale_deg, max_irls_iterations, step_tolerance_deg,
+                                                inlier_threshold_deg)
+
+struct RotationAveragingSummary {
+  bool success = false;
+  std::string message;
+  int num_images = 0;
+  int num_observations = 0;
+  int l1_iterations = 0;
+  int irls_iterations = 0;
+  double last_step_deg = 0.0;
+  bool converged = false;  // IRLS step tolerance reached
+  int num_inliers = 0;     // observations with residual below inlier_threshold_deg
+  double residual_median_deg = 0.0;
+  double seconds = 0.0;
+};
+
+// Throws InputError for invalid options (non-positive scales or tolerances, negative
+// iteration counts).
+void ValidateRotationAveragingOptions(const RotationAveragingOptions& options);
+
+// Averages the relative rotations into one rotation per image appearing in them. The
+// observation graph must be connected (restrict it to a component first, connectivity.h);
+// otherwise, or if a solve fails, returns false with summary->message set and leaves
+// `rotations` untouched. With spanning_tree_init = false, `rotations` holds the start.
+bool AverageRotations(const std::vector<RelativeRotation>& observations, const RotationAveragingOptions& options,
+                      std::map<uint32_t, Eigen::Matrix3d>* rotations, RotationAveragingSummary* summary = nullptr);
+
+// Residual angle (degrees) of one observation under the given rotations.
+double RelativeRotationResidualDeg(const RelativeRotation& observation,
+                                   const std::map<uint32_t, Eigen::Matrix3d>& rotations);
+
+}  // namespace pgba

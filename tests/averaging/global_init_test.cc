@@ -1,0 +1,274 @@
+#include "averaging/global_init.h"
+
+#include <gtest/gtest.h>
+
+#include "pgba/geometry/rotation.h"
+#include "pgba/io/json_config.h"
+#include "pgba/util/error.h"
+#include "relative_motion_fixture.h"
+
+namespace pgba {
+namespace {
+
+using test::Layout;
+
+struct Accuracy {
+  double rot_median, rot_max, centre_median, centre_max;
+};
+
+Accuracy Measure(const GlobalInitResult& r, const test::GroundTruth& gt) {
+  std::map<uint32_t, Eigen::Matrix3d> R;
+  std::map<uint32_t, Eigen::Vector3d> C;
+  for (const auto& [id, p] : r.poses) {
+    R[id] = p.R();
+    C[id] = p.C();
+  }
+  const std::vector<double> rot = test::RotationErrorsDeg(R, gt.poses);
+  const std::vector<double> centre = test::CentreErrorsRel(C, gt.poses, gt.extent, &R);
+  return {test::Median(rot), test::Max(rot), test::Median(centre), test::Max(centre)};
+}
+
+class GlobalInitLayouts : public ::testing::TestWithParam<Layout> {};
+
+// Pairs and triplets with 0.3 deg rotation/direction noise and 0.3% centre noise: every
+// image registered, rotation error median < 0.1 deg and max < 0.5 deg, centre error median
+// < 1% of the extent; each kept triplet's similarity maps the global poses onto its local
+// poses (paper eq. 4) up to the noise.
+TEST_P(GlobalInitLayouts, RegistersEverythingAccurately) {
+  const Layout layout = GetParam();
+  const test::GroundTruth gt = test::MakeLayout(layout, 21);
+  const test::RelativeMotions m = test::MakeRelativeMotions(gt, test::NoiseModel(), 22);
+  const GlobalInitResult r = RunGlobalInitialisation(test::MakeTracks(gt), m.pairs, m.triplets, GlobalInitOptions());
+  ASSERT_TRUE(r.success) << r.message;
+  EXPECT_EQ(r.poses.size(), gt.poses.size());
+  EXPECT_TRUE(r.images_dropped.empty());
+  EXPECT_EQ(r.triplets.size(), m.triplets.size());
+  const Accuracy a = Measure(r, gt);
+  std::cout << test::LayoutName(layout) << ": rotation error median " << a.rot_median << " max " << a.rot_max
+            << " deg; centre error median " << a.centre_median << " max " << a.centre_max << " of extent; "
+            << r.stats.seconds_total << " s\n";
+  EXPECT_LT(a.rot_median, 0.1);
+  EXPECT_LT(a.rot_max, 0.5);
+  EXPECT_LT(a.centre_median, 0.01);
+  for (const Triplet& t : r.triplets)
+    for (int k = 0; k < 3; ++k) {
+      const Pose predicted = t.global_to_local.Apply(r.poses.at(t.image_ids[k]));
+      EXPECT_LT(RotationAngleDeg(predicted.R(), t.local_poses[k].R()), 1.0);
+      const double size = (t.local_poses[0].C() - t.local_poses[1].C()).norm() +
+                          (t.local_poses[1].C() - t.local_poses[2].C()).norm();
+      EXPECT_LT((predicted.C() - t.local_poses[k].C()).norm(), 0.05 * size);
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(All, GlobalInitLayouts, ::testing::Values(Layout::kOrbit, Layout::kAerial, Layout::kVideo));
+
+class GlobalInitOutliers : public ::testing::TestWithParam<double> {};
+
+// 10% / 20% of the pairs' and triplets' rotations replaced by random ones (the sensitivity
+// experiment's flag): median rotation error < 0.5 deg on the orbit, the corrupted triplets
+// are identified and dropped, every image stays registered.
+TEST_P(GlobalInitOutliers, Orbit) {
+  const test::GroundTruth gt = test::MakeLayout(Layout::kOrbit, 31);
+  const test::RelativeMotions m = test::MakeRelativeMotions(gt, test::NoiseModel(), 32);
+  GlobalInitOptions options;
+  options.outliers.fraction = GetParam();
+  options.outliers.seed = 33;
+  const GlobalInitResult r = RunGlobalInitialisation(test::MakeTracks(gt), m.pairs, m.triplets, options);
+  ASSERT_TRUE(r.success) << r.message;
+  EXPECT_EQ(r.stats.triplets_corrupted, static_cast<int>(std::lround(GetParam() * m.triplets.size())));
+  EXPECT_EQ(r.stats.pairs_corrupted, static_cast<int>(std::lround(GetParam() * m.pairs.size())));
+  EXPECT_GE(r.stats.triplets_rotation_outliers, r.stats.triplets_corrupted * 9 / 10);
+  EXPECT_LE(r.stats.triplets_rotation_outliers, r.stats.triplets_corrupted + 2);
+  EXPECT_EQ(r.poses.size(), gt.poses.size());
+  const Accuracy a = Measure(r, gt);
+  std::cout << "orbit, " << GetParam() << " outliers: rotation error median " << a.rot_median << " max " << a.rot_max
+            << " deg, centre median " << a.centre_median << "; " << r.stats.triplets_rotation_outliers
+            << " triplets dropped of " << r.stats.triplets_corrupted << " corrupted\n";
+  EXPECT_LT(a.rot_median, 0.5);
+  EXPECT_LT(a.centre_median, 0.01);
+}
+
+INSTANTIATE_TEST_SUITE_P(All, GlobalInitOutliers, ::testing::Values(0.1, 0.2));
+
+// With triplet filtering disabled (the sensitivity experiment hands outliers to the global
+// BA), the corrupted triplets are kept.
+TEST(GlobalInit, FilteringCanBeDisabled) {
+  const test::GroundTruth gt = test::MakeLayout(Layout::kVideo, 5);
+  const test::RelativeMotions m = test::MakeRelativeMotions(gt, test::NoiseModel(), 6);
+  GlobalInitOptions options;
+  options.outliers.fraction = 0.1;
+  options.outliers.target = OutlierTarget::kTriplets;
+  options.max_triplet_rotation_error_deg = 0.0;
+  options.max_triplet_centre_error = 0.0;
+  const GlobalInitResult r = RunGlobalInitialisation(test::MakeTracks(gt), m.pairs, m.triplets, options);
+  ASSERT_TRUE(r.success);
+  EXPECT_EQ(r.triplets.size(), m.triplets.size());
+  EXPECT_EQ(r.stats.pairs_corrupted, 0);
+  EXPECT_LT(Measure(r, gt).rot_median, 0.5);
+}
+
+// A view graph that falls apart: the largest triplet component is reconstructed; images of a
+// smaller component, images touched by a single triplet corner only, images with pairs but
+// no triplet and images without any relative motion are dropped and named.
+TEST(GlobalInit, LargestComponentAndDroppedImages) {
+  const test::GroundTruth gt = test::MakeLayout(Layout::kOrbit, 41);
+  test::RelativeMotions m = test::MakeRelativeMotions(gt, test::NoiseModel(), 42);
+  Reconstruction tracks = test::MakeTracks(gt);
+  auto add_image = [&](uint32_t id) {
+    Image im;
+    im.image_id = id;
+    im.name = "extra_" + std::to_string(id) + ".jpg";
+    im.camera_id = 1;
+    tracks.images[id] = im;
+  };
+  // A separate small cluster 100, 101, 102, 103 (two triplets sharing a pair).
+  for (uint32_t id = 100; id <= 103; ++id) add_image(id);
+  Triplet t = m.triplets[0];
+  t.image_ids = {100, 101, 102};
+  m.triplets.push_back(t);
+  t.image_ids = {101, 102, 103};
+  m.triplets.push_back(t);
+  // Image 200 attached to the main cluster by a triplet touching it in image 1 only.
+  add_image(200);
+  add_image(201);
+  t.image_ids = {1, 200, 201};
+  m.triplets.push_back(t);
+  // Image 300: pairs only. Image 400: nothing.
+  add_image(300);
+  add_image(400);
+  TwoViewGeometry p = m.pairs[0];
+  p.image_id1 = 1;
+  p.image_id2 = 300;
+  m.pairs.push_back(p);
+
+  const GlobalInitResult r = RunGlobalInitialisation(tracks, m.pairs, m.triplets, GlobalInitOptions());
+  ASSERT_TRUE(r.success);
+  EXPECT_EQ(r.poses.size(), gt.poses.size());
+  EXPECT_EQ(r.dropped_image_ids, (std::vector<uint32_t>{100, 101, 102, 103, 200, 201, 300, 400}));
+  EXPECT_EQ(r.images_dropped, (std::vector<std::string>{"extra_100.jpg", "extra_101.jpg", "extra_102.jpg",
+                                                        "extra_103.jpg", "extra_200.jpg", "extra_201.jpg",
+                                                        "extra_300.jpg", "extra_400.jpg"}));
+  EXPECT_EQ(r.stats.triplets_outside_component, 3);
+  const nlohmann::json report = GlobalInitReport(r);
+  EXPECT_EQ(report["images_dropped"].size(), 8u);
+  EXPECT_EQ(report["images_registered"], gt.poses.size());
+  EXPECT_EQ(report["triplets_dropped"]["outside_component"], 3);
+  EXPECT_TRUE(report.contains("seconds"));
+  EXPECT_LT(Measure(r, gt).rot_median, 0.1);
+}
+
+// No triplets at all: nothing registered, every image named, no crash.
+TEST(GlobalInit, NoTriplets) {
+  const test::GroundTruth gt = test::MakeLayout(Layout::kOrbit, 1);
+  const test::RelativeMotions m = test::MakeRelativeMotions(gt, test::NoiseModel(), 1);
+  const GlobalInitResult r = RunGlobalInitialisation(test::MakeTracks(gt), m.pairs, {}, GlobalInitOptions());
+  EXPECT_FALSE(r.success);
+  EXPECT_TRUE(r.poses.empty());
+  EXPECT_EQ(r.images_dropped.size(), gt.poses.size());
+  const GlobalInitResult empty = RunGlobalInitialisation(Reconstruction(), {}, {}, GlobalInitOptions());
+  EXPECT_FALSE(empty.success);
+}
+
+// Unusable relative motions are ignored and counted; pure garbage finishes without a crash.
+TEST(GlobalInit, BadInputNeverCrashes) {
+  const test::GroundTruth gt = test::MakeLayout(test::Layout::kVideo, 3);
+  test::RelativeMotions m = test::MakeRelativeMotions(gt, test::NoiseModel(), 4);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  m.pairs[0].R_21(0, 0) = nan;
+  m.pairs[1].t_21.setZero();
+  m.pairs[2].image_id2 = m.pairs[2].image_id1;
+  m.triplets[0].local_poses[1] = Pose::FromRC(Eigen::Matrix3d::Identity(), Eigen::Vector3d(nan, 0, 0));
+  m.triplets[1].image_ids[2] = m.triplets[1].image_ids[0];
+  for (Pose& p : m.triplets[2].local_poses) p = Pose::FromRC(p.R(), Eigen::Vector3d(1, 2, 3));
+  const GlobalInitResult r = RunGlobalInitialisation(test::MakeTracks(gt), m.pairs, m.triplets, GlobalInitOptions());
+  ASSERT_TRUE(r.success);
+  EXPECT_EQ(r.stats.pairs_invalid, 3);
+  EXPECT_EQ(r.stats.triplets_invalid, 3);
+  EXPECT_EQ(r.poses.size(), gt.poses.size());
+  EXPECT_LT(Measure(r, gt).rot_median, 0.1);
+
+  // Every rotation and every local centre random.
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> n(0.0, 1.0);
+  for (TwoViewGeometry& p : m.pairs) p.R_21 = RandomRotation(rng);
+  for (Triplet& t : m.triplets)
+    for (Pose& p : t.local_poses) p = Pose::FromRC(RandomRotation(rng), Eigen::Vector3d(n(rng), n(rng), n(rng)));
+  const GlobalInitResult g = RunGlobalInitialisation(test::MakeTracks(gt), m.pairs, m.triplets, GlobalInitOptions());
+  EXPECT_EQ(g.poses.size() + g.images_dropped.size(), gt.poses.size());
+}
+
+TEST(GlobalInit, UnknownImageIdIsInputError) {
+  const test::GroundTruth gt = test::MakeLayout(Layout::kOrbit, 1);
+  test::RelativeMotions m = test::MakeRelativeMotions(gt, test::NoiseModel(), 1);
+  m.pairs[3].image_id2 = 999;
+  EXPECT_THROW(RunGlobalInitialisation(test::MakeTracks(gt), m.pairs, m.triplets, GlobalInitOptions()), InputError);
+}
+
+TEST(GlobalInit, Deterministic) {
+  const test::GroundTruth gt = test::MakeLayout(Layout::kAerial, 2);
+  const test::RelativeMotions m = test::MakeRelativeMotions(gt, test::NoiseModel(), 3);
+  GlobalInitOptions options;
+  options.outliers.fraction = 0.1;
+  const GlobalInitResult a = RunGlobalInitialisation(test::MakeTracks(gt), m.pairs, m.triplets, options);
+  const GlobalInitResult b = RunGlobalInitialisation(test::MakeTracks(gt), m.pairs, m.triplets, options);
+  ASSERT_EQ(a.poses.size(), b.poses.size());
+  for (const auto& [id, p] : a.poses) {
+    EXPECT_EQ(p.q().coeffs(), b.poses.at(id).q().coeffs());
+    EXPECT_EQ(p.t(), b.poses.at(id).t());
+  }
+  ASSERT_EQ(a.triplets.size(), b.triplets.size());
+  for (size_t t = 0; t < a.triplets.size(); ++t) EXPECT_EQ(a.triplets[t].global_to_local.Matrix(), b.triplets[t].global_to_local.Matrix());
+}
+
+// Options are JSON-loadable with defaults for absent fields; bad values are InputErrors.
+TEST(GlobalInit, OptionsFromJson) {
+  const nlohmann::json j = nlohmann::json::parse(R"({"rotation": {"loss": "l_half", "loss_scale_deg": 3},
+      "translation": {"refine": false}, "outliers": {"fraction": 0.2, "target": "pairs"}})");
+  const GlobalInitOptions o = j.get<GlobalInitOptions>();
+  EXPECT_EQ(o.rotation.loss, RobustLoss::kLHalf);
+  EXPECT_EQ(o.rotation.loss_scale_deg, 3.0);
+  EXPECT_EQ(o.rotation.max_irls_iterations, RotationAveragingOptions().max_irls_iterations);
+  EXPECT_FALSE(o.translation.refine);
+  EXPECT_EQ(o.outliers.target, OutlierTarget::kPairs);
+  EXPECT_EQ(nlohmann::json(o).get<GlobalInitOptions>().rotation.loss, RobustLoss::kLHalf);
+  EXPECT_THROW(nlohmann::json::parse(R"({"rotation": {"loss": "cauchy"}})").get<GlobalInitOptions>(),
+               nlohmann::json::exception);
+  EXPECT_THROW(nlohmann::json::parse(R"({"outliers": {"target": "all"}})").get<GlobalInitOptions>(),
+               nlohmann::json::exception);
+  // Through the config reader: InputError naming the file.
+  GlobalInitOptions read;
+  ReadSection(Config::Parse(R"({"averaging": {"rotation": {"loss_scale_deg": 2.5}}})", "cfg.json"), "averaging",
+              &read);
+  EXPECT_EQ(read.rotation.loss_scale_deg, 2.5);
+  EXPECT_EQ(read.rotation.loss, RobustLoss::kGemanMcClure);
+  try {
+    ReadSection(Config::Parse(R"({"averaging": {"rotation": {"loss": "cauchy"}}})", "cfg.json"), "averaging", &read);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("cfg.json"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("cauchy"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(ReadSection(Config::Parse(R"({"averaging": {"rotation": {"los": "l1"}}})", "cfg.json"), "averaging",
+                           &read),
+               InputError);
+  GlobalInitOptions bad;
+  bad.rotation.loss_scale_deg = -1;
+  EXPECT_THROW(RunGlobalInitialisation(Reconstruction(), {}, {}, bad), InputError);
+}
+
+// The l1/2 loss of Chatterjee & Govindu is an alternative default: also accurate.
+TEST(GlobalInit, LHalfLoss) {
+  const test::GroundTruth gt = test::MakeLayout(Layout::kOrbit, 8);
+  const test::RelativeMotions m = test::MakeRelativeMotions(gt, test::NoiseModel(), 9);
+  GlobalInitOptions options;
+  options.rotation.loss = RobustLoss::kLHalf;
+  options.outliers.fraction = 0.2;
+  const GlobalInitResult r = RunGlobalInitialisation(test::MakeTracks(gt), m.pairs, m.triplets, options);
+  ASSERT_TRUE(r.success);
+  const Accuracy a = Measure(r, gt);
+  std::cout << "l1/2, 20% outliers: rotation error median " << a.rot_median << " max " << a.rot_max << "\n";
+  EXPECT_LT(a.rot_median, 0.5);
+}
+
+}  // namespace
+}  // namespace pgba
