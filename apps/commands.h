@@ -15,5 +15,6 @@ void AddCommand(CLI::App& app, CLI::App* sub, CommandRunner run);
 
 void RegisterSynth(CLI::App& app);
 void RegisterEvaluate(CLI::App& app);
+void RegisterInit(CLI::App& app);
 
 }  // namespace pgba::app
