@@ -1,4 +1,0 @@
-#include "apps/commands.h"
-namespace pgba::app {
-void RegisterEvaluate(CLI::App& app) {}
-}
