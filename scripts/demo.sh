@@ -6,7 +6,10 @@ cd "$(dirname "$0")/.."
 bash scripts/install_deps.sh
 bash scripts/build.sh
 OUT=${OUT:-demo_out}
-build/bin/pgba synth --scenario longfocal --out "$OUT/scene" --seed 1 --noise 0.5 --outliers 0.02 >/dev/null
-# Until the adjustment stages land, the ground truth itself is evaluated (sigma at the noise level).
-build/bin/pgba evaluate "$OUT/scene/gt" --obs "$OUT/scene/input" --gt "$OUT/scene/gt" --loop "$OUT/scene/loop_pairs.txt" --json "$OUT/evaluation.json"
-echo "demo: outputs in $OUT/ (evaluation.json)"
+S="$OUT/scene"
+build/bin/pgba synth --scenario orbit --out "$S" --seed 1 --noise 0.5 --outliers 0.02
+# Global initialisation from the scene's tracks (poses unknown): pairs, triplets, averaging.
+build/bin/pgba init --tracks "$S/input" --out "$OUT/ws"
+# Evaluation of the initial poses against the truth.
+build/bin/pgba evaluate "$OUT/ws/init" --obs "$S/input" --gt "$S/gt" --json "$OUT/evaluation.json"
+echo "demo: workspace in $OUT/ws (report.json, init/), evaluation in $OUT/evaluation.json"
