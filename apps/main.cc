@@ -30,8 +30,9 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
-    return code == 0 ? 0 : kInputErrorExitCode;
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help
+    std::cerr << "error: " << e.what() << "\nRun with --help for usage." << std::endl;
+    return kInputErrorExitCode;
   }
   SetLogVerbosity(verbosity);
   try {
