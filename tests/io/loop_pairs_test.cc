@@ -90,7 +90,7 @@ TEST_F(LoopPairsTest, MalformedLinesNameFileAndLine) {
       {"a 1 2y b 3 4\n", 1, "y_i"},                      // trailing characters
       {"a 1 2 b nan 4\n", 1, "non-finite"},              // NaN
       {"a 1 2 b 3 inf\n", 1, "non-finite"},              // Inf
-      {"a 1 2 b 3 1e999\n", 1, "invalid number"},        // overflow
+      {"a 1 2 b 3 1e999\n", 1, "non-finite value"},      // overflow
       {"a 1 2 a 3 4\n", 1, "two different images"},      // self pair
       {good + "\x01\x02\x03 garbage\n", 2, "6 fields"},  // binary junk
   };

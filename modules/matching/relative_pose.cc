@@ -1,0 +1,208 @@
+#include "modules/matching/relative_pose.h"
+
+#include <ceres/ceres.h>
+#include <ceres/rotation.h>
+#include <ceres/sphere_manifold.h>
+
+#include <opengv/relative_pose/CentralRelativeAdapter.hpp>
+#include <opengv/sac/Ransac.hpp>
+#include <opengv/sac_problems/relative_pose/CentralRelativePoseSacProblem.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+
+#include "modules/matching/opengv_rng.h"
+#include "pgba/geometry/rotation.h"
+
+namespace pgba {
+namespace {
+
+using SacProblem = opengv::sac_problems::relative_pose::CentralRelativePoseSacProblem;
+
+// Squared norms entering the Sampson denominator for E = [t]x R: |(I - b1 b1^T) E^T b2|^2 =
+// |b2 x t|^2 - g^2 and |(I - b2 b2^T) E b1|^2 = |t x R b1|^2 - g^2, with g = b2^T E b1
+// (R preserves norms, so E^T b2 = R^T (b2 x t) needs no R^T).
+template <typename T>
+T SampsonAngleT(const T* Rb1, const T* t, const Eigen::Vector3d& b2) {
+  T e[3];  // E b1 = t x (R b1)
+  ceres::CrossProduct(t, Rb1, e);
+  const T g = T(b2.x()) * e[0] + T(b2.y()) * e[1] + T(b2.z()) * e[2];
+  const T b2v[3] = {T(b2.x()), T(b2.y()), T(b2.z())};
+  T bt[3];
+  ceres::CrossProduct(b2v, t, bt);
+  const T denom = ceres::DotProduct(bt, bt) + ceres::DotProduct(e, e) - T(2.0) * g * g;
+  if (!(denom > T(1e-300))) return T(0.0);
+  return g / sqrt(denom);
+}
+
+// Sampson error in pixels of one correspondence; blocks (omega[3], t[3]) with
+// R = R0 Exp(omega) (the project's right-multiplied increment) and t on the unit sphere.
+struct SampsonResidual {
+  SampsonResidual(const Eigen::Matrix3d& R0, const Eigen::Vector3d& b1, const Eigen::Vector3d& b2, double focal)
+      : R0(R0), b1(b1), b2(b2), focal(focal) {}
+  template <typename T>
+  bool operator()(const T* omega, const T* t, T* residual) const {
+    const T b[3] = {T(b1.x()), T(b1.y()), T(b1.z())};
+    T y[3];
+    ceres::AngleAxisRotatePoint(omega, b, y);
+    T Rb1[3];
+    for (int r = 0; r < 3; ++r) Rb1[r] = T(R0(r, 0)) * y[0] + T(R0(r, 1)) * y[1] + T(R0(r, 2)) * y[2];
+    residual[0] = T(focal) * SampsonAngleT(Rb1, t, b2);
+    return true;
+  }
+  Eigen::Matrix3d R0;
+  Eigen::Vector3d b1, b2;
+  double focal;
+};
+
+SacProblem::Algorithm ParseAlgorithm(const std::string& name) {
+  if (name == "stewenius") return SacProblem::STEWENIUS;
+  if (name == "nister") return SacProblem::NISTER;
+  throw std::invalid_argument("unknown relative pose algorithm '" + name + "' (stewenius, nister)");
+}
+
+// OpenGV's RANSAC with its sampling driven by our seeded engine (opengv_rng.h).
+bool RunRansac(const std::vector<Eigen::Vector3d>& b1, const std::vector<Eigen::Vector3d>& b2, double threshold_angle,
+               const RelativePoseOptions& options, Eigen::Matrix3d* R_21, Eigen::Vector3d* t_21, int* iterations) {
+  opengv::bearingVectors_t f1(b1.begin(), b1.end()), f2(b2.begin(), b2.end());
+  opengv::relative_pose::CentralRelativeAdapter adapter(f1, f2);
+  auto problem = std::make_shared<SacProblem>(adapter, ParseAlgorithm(options.algorithm), /*randomSeed=*/false);
+  SeedSacProblem(options.seed, problem.get());
+  opengv::sac::Ransac<SacProblem> ransac;
+  ransac.sac_model_ = problem;
+  ransac.threshold_ = 1.0 - std::cos(threshold_angle);
+  ransac.max_iterations_ = options.max_iterations;
+  ransac.probability_ = options.confidence;
+  if (!ransac.computeModel(0)) return false;
+  *iterations = ransac.iterations_;
+  // OpenGV returns [R_12 | c_2 in frame 1]: x_1 = R_12 x_2 + c_2.
+  const Eigen::Matrix3d R_12 = ransac.model_coefficients_.block<3, 3>(0, 0);
+  const Eigen::Vector3d c2 = ransac.model_coefficients_.col(3);
+  if (!R_12.allFinite() || !(c2.norm() > 0)) return false;
+  *R_21 = ClosestRotation(R_12.transpose());
+  *t_21 = -(*R_21 * c2).normalized();
+  return true;
+}
+
+// Marks correspondences within the threshold and in front of both cameras; returns the count.
+int Classify(const std::vector<Eigen::Vector3d>& b1, const std::vector<Eigen::Vector3d>& b2, const Eigen::Matrix3d& R,
+             const Eigen::Vector3d& t, double threshold_angle, std::vector<uint8_t>* mask) {
+  mask->assign(b1.size(), 0);
+  int n = 0;
+  for (size_t i = 0; i < b1.size(); ++i) {
+    if (std::abs(SampsonAngle(R, t, b1[i], b2[i])) < threshold_angle && InFrontOfBoth(R, t, b1[i], b2[i], threshold_angle)) {
+      (*mask)[i] = 1;
+      ++n;
+    }
+  }
+  return n;
+}
+
+void Refine(const std::vector<Eigen::Vector3d>& b1, const std::vector<Eigen::Vector3d>& b2,
+            const std::vector<uint8_t>& mask, double focal, const RelativePoseOptions& options, Eigen::Matrix3d* R,
+            Eigen::Vector3d* t) {
+  std::vector<size_t> inliers;
+  for (size_t i = 0; i < mask.size(); ++i)
+    if (mask[i]) inliers.push_back(i);
+  const size_t m = std::min(inliers.size(), static_cast<size_t>(std::max(options.max_refine_correspondences, 5)));
+  if (m < 5) return;
+  double omega[3] = {0, 0, 0};
+  double tv[3] = {t->x(), t->y(), t->z()};
+  ceres::Problem problem;
+  ceres::LossFunction* loss = new ceres::HuberLoss(options.huber_px);
+  for (size_t k = 0; k < m; ++k) {
+    const size_t i = inliers[k * inliers.size() / m];  // evenly spaced subsample
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<SampsonResidual, 1, 3, 3>(
+                                 new SampsonResidual(*R, b1[i], b2[i], focal)),
+                             loss, omega, tv);
+  }
+  problem.SetManifold(tv, new ceres::SphereManifold<3>());
+  ceres::Solver::Options solver;
+  solver.linear_solver_type = ceres::DENSE_QR;
+  solver.max_num_iterations = 50;
+  solver.num_threads = 1;
+  solver.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver, &problem, &summary);
+  if (!summary.IsSolutionUsable()) return;
+  const Eigen::Matrix3d R_new = ClosestRotation(*R * ExpSO3(Eigen::Vector3d(omega[0], omega[1], omega[2])));
+  const Eigen::Vector3d t_new = Eigen::Vector3d(tv[0], tv[1], tv[2]).normalized();
+  if (R_new.allFinite() && t_new.allFinite()) {
+    *R = R_new;
+    *t = t_new;
+  }
+}
+
+}  // namespace
+
+double SampsonAngle(const Eigen::Matrix3d& R_21, const Eigen::Vector3d& t_21, const Eigen::Vector3d& b1,
+                    const Eigen::Vector3d& b2) {
+  const Eigen::Vector3d Rb1 = R_21 * b1;
+  return SampsonAngleT<double>(Rb1.data(), t_21.data(), b2);
+}
+
+bool InFrontOfBoth(const Eigen::Matrix3d& R_21, const Eigen::Vector3d& t_21, const Eigen::Vector3d& b1,
+                   const Eigen::Vector3d& b2, double parallel_angle_rad) {
+  // Depths from the least-squares ray intersection in frame 2: l1 (R b1) + t = l2 b2.
+  const Eigen::Vector3d a = R_21 * b1;
+  const double ab = a.dot(b2);
+  const double det = a.squaredNorm() * b2.squaredNorm() - ab * ab;
+  if (std::sqrt(std::max(det, 0.0)) < std::sin(parallel_angle_rad)) return ab > 0;  // at infinity: same direction
+  const double at = a.dot(t_21), bt = b2.dot(t_21);
+  const double l1 = (-at * b2.squaredNorm() + ab * bt) / det;
+  const double l2 = (a.squaredNorm() * bt - ab * at) / det;
+  return l1 > 0 && l2 > 0;
+}
+
+RelativePoseResult EstimateRelativePose(const std::vector<Eigen::Vector3d>& bearings1,
+                                        const std::vector<Eigen::Vector3d>& bearings2, double focal_px,
+                                        const RelativePoseOptions& options) {
+  if (bearings1.size() != bearings2.size())
+    throw std::invalid_argument("EstimateRelativePose: bearing lists differ in size");
+  if (!(focal_px > 0) || !(options.threshold_px > 0))
+    throw std::invalid_argument("EstimateRelativePose: focal and threshold must be positive");
+  for (size_t i = 0; i < bearings1.size(); ++i)
+    if (!bearings1[i].allFinite() || !bearings2[i].allFinite())
+      throw std::invalid_argument("EstimateRelativePose: non-finite bearing");
+  RelativePoseResult result;
+  result.inlier_mask.assign(bearings1.size(), 0);
+  // 5 points for the solver + 3 that OpenGV uses to pick among its solutions.
+  if (bearings1.size() < 8 || static_cast<int>(bearings1.size()) < options.min_inliers) return result;
+
+  const double threshold_angle = std::atan(options.threshold_px / focal_px);
+  Eigen::Matrix3d R;
+  Eigen::Vector3d t;
+  if (!RunRansac(bearings1, bearings2, threshold_angle, options, &R, &t, &result.ransac_iterations)) return result;
+
+  std::vector<uint8_t> mask;
+  int n = Classify(bearings1, bearings2, R, t, threshold_angle, &mask);
+  if (options.refine) {
+    // Refine, re-classify with the better model, refine once more on the final inlier set.
+    for (int pass = 0; pass < 2 && n >= 5; ++pass) {
+      Refine(bearings1, bearings2, mask, focal_px, options, &R, &t);
+      n = Classify(bearings1, bearings2, R, t, threshold_angle, &mask);
+    }
+  }
+  result.R_21 = R;
+  result.t_21 = t;
+  result.inlier_mask = std::move(mask);
+  result.num_inliers = n;
+  std::vector<double> angles;
+  angles.reserve(n);
+  for (size_t i = 0; i < bearings1.size(); ++i) {
+    if (!result.inlier_mask[i]) continue;
+    const Eigen::Vector3d a = R * bearings1[i];
+    angles.push_back(std::atan2(a.cross(bearings2[i]).norm(), a.dot(bearings2[i])));
+  }
+  if (!angles.empty()) {
+    std::nth_element(angles.begin(), angles.begin() + angles.size() / 2, angles.end());
+    result.median_triangulation_angle_deg = angles[angles.size() / 2] * 180.0 / M_PI;
+  }
+  result.success = n >= options.min_inliers;
+  return result;
+}
+
+}  // namespace pgba

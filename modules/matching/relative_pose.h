@@ -1,0 +1,82 @@
+// Calibrated relative pose of two views from bearing correspondences: OpenGV's 5-point
+// solver (Stewenius or Nister) in OpenGV's RANSAC, then a robust nonlinear refinement of
+// the Sampson error on the inliers, and a cheirality check.
+//
+// General API shared by the view graph of the tracks pipeline (modules/triplets) and the
+// geometric verification of the image front end: inputs are undistorted unit bearings
+// (Camera::PixelToBearing), a pixel threshold and the focal length that converts it to an
+// angle.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace pgba {
+
+struct RelativePoseOptions {
+  // Inlier threshold on the reprojection error, pixels. It is converted to an angle with
+  // the focal length (theta = atan(threshold_px / focal_px)); OpenGV's RANSAC scores a
+  // correspondence by the sum over both views of 1 - cos(angle to the reprojected
+  // triangulated point), compared with 1 - cos(theta).
+  double threshold_px = 2.0;
+  // Minimal solver: "stewenius" or "nister" (OpenGV, 5 points + 3 to disambiguate).
+  std::string algorithm = "stewenius";
+  // RANSAC limits: hypotheses and the confidence of having drawn one all-inlier sample.
+  int max_iterations = 2000;
+  double confidence = 0.9999;
+  // Seed of RANSAC's sampling (results are deterministic for a given seed).
+  uint64_t seed = 0;
+  // Nonlinear refinement of the Sampson error (Ceres, Huber loss) on the inliers.
+  bool refine = true;
+  double huber_px = 1.0;
+  // The refinement uses at most this many inliers, evenly spaced (a few hundred already
+  // pin the pose far below the pixel noise; this keeps dense pairs cheap).
+  int max_refine_correspondences = 1000;
+  // Below this many inliers the estimate is a failure.
+  int min_inliers = 15;
+};
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(RelativePoseOptions, threshold_px, algorithm, max_iterations,
+                                                confidence, seed, refine, huber_px, max_refine_correspondences,
+                                                min_inliers)
+
+struct RelativePoseResult {
+  bool success = false;
+  // x_2 = R_21 x_1 + t_21 (camera frames), |t_21| = 1. The centre of view 2 in view 1's
+  // frame is -R_21^T t_21.
+  Eigen::Matrix3d R_21 = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d t_21 = Eigen::Vector3d::UnitX();
+  // One entry per correspondence: 1 if it is an inlier (Sampson error below the threshold
+  // and in front of both cameras).
+  std::vector<uint8_t> inlier_mask;
+  int num_inliers = 0;
+  // Median over the inliers of the angle between the two viewing rays (R_21 b1 vs b2),
+  // i.e. the triangulation angle: ~0 for a pure rotation or a baseline tiny w.r.t. depth.
+  double median_triangulation_angle_deg = 0.0;
+  int ransac_iterations = 0;
+};
+
+// Estimates the relative pose from unit bearings b1[i] <-> b2[i] (camera frames).
+// `focal_px` converts options.threshold_px to an angle (for two different cameras, their
+// mean focal). Throws std::invalid_argument for mismatched sizes, a non-positive focal or
+// an unknown algorithm; returns success = false when too few correspondences or inliers.
+RelativePoseResult EstimateRelativePose(const std::vector<Eigen::Vector3d>& bearings1,
+                                        const std::vector<Eigen::Vector3d>& bearings2, double focal_px,
+                                        const RelativePoseOptions& options);
+
+// Sampson approximation of the reprojection error of b1 <-> b2 under (R_21, t_21), as an
+// angle in radians (first-order distance on the two unit spheres to the epipolar
+// constraint b2^T [t]x R b1 = 0).
+double SampsonAngle(const Eigen::Matrix3d& R_21, const Eigen::Vector3d& t_21, const Eigen::Vector3d& b1,
+                    const Eigen::Vector3d& b2);
+
+// True if the point triangulated from b1 <-> b2 lies in front of both cameras (or the rays
+// are parallel to within `parallel_angle_rad`, a point at infinity whose depth sign is
+// undetermined).
+bool InFrontOfBoth(const Eigen::Matrix3d& R_21, const Eigen::Vector3d& t_21, const Eigen::Vector3d& b1,
+                   const Eigen::Vector3d& b2, double parallel_angle_rad);
+
+}  // namespace pgba

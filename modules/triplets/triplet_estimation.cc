@@ -1,0 +1,224 @@
+#include "modules/triplets/triplet_estimation.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "pgba/geometry/rotation.h"
+#include "pgba/geometry/sim3.h"
+#include "pgba/geometry/triangulation.h"
+#include "pgba/optim/bundle_adjuster.h"
+
+namespace pgba {
+namespace {
+
+// Index in `pairs` of the pair of triplet positions u != v.
+int PairIndex(int u, int v) {
+  const int a = std::min(u, v), b = std::max(u, v);
+  return a == 0 ? b - 1 : 2;
+}
+
+TrackView ViewOf(const TrackIndex& index, uint32_t image_id, int64_t point2D_idx, const Pose& pose) {
+  TrackView v;
+  v.pose = pose;
+  v.camera = &index.CameraOf(image_id);
+  v.pixel = index.Pixel(image_id, static_cast<uint32_t>(point2D_idx));
+  return v;
+}
+
+// The triplet's working model: its three images (with their observations) and the
+// triangulated tracks, ids as in the input so that track_ids come out directly.
+Reconstruction MakeLocalModel(const TrackIndex& index, const std::array<uint32_t, 3>& ids,
+                              const std::array<Pose, 3>& poses) {
+  Reconstruction rec;
+  for (int k = 0; k < 3; ++k) {
+    Image image = index.tracks().images.at(ids[k]);
+    image.pose = poses[k];
+    rec.cameras.emplace(image.camera_id, index.CameraOf(ids[k]));
+    rec.images.emplace(ids[k], std::move(image));
+  }
+  return rec;
+}
+
+// Drops observations reprojecting farther than `threshold_px` and the tracks left with
+// fewer than two; returns the number of observations dropped.
+int RemoveOutlierObservations(double threshold_px, Reconstruction* rec) {
+  int removed = 0;
+  for (auto it = rec->points3D.begin(); it != rec->points3D.end();) {
+    const std::vector<double> err = ObservationErrorsPx(*rec, it->first);
+    std::vector<TrackElement> kept;
+    for (size_t k = 0; k < err.size(); ++k)
+      if (err[k] <= threshold_px) kept.push_back(it->second.track[k]);
+    removed += static_cast<int>(err.size() - kept.size());
+    if (kept.size() < 2) {
+      it = rec->points3D.erase(it);
+    } else {
+      it->second.track = std::move(kept);
+      ++it;
+    }
+  }
+  return removed;
+}
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+Pose RelativePoseOfPair(const TwoViewGeometry& pair, uint32_t from, uint32_t to) {
+  if (from == pair.image_id1 && to == pair.image_id2) return Pose::FromQt(Eigen::Quaterniond(pair.R_21), pair.t_21);
+  const Eigen::Matrix3d R = pair.R_21.transpose();
+  return Pose::FromQt(Eigen::Quaterniond(R), -(R * pair.t_21));
+}
+
+double TripletScore(int num_tracks_all_views, double median_angle_deg, const TripletOptions& options) {
+  return num_tracks_all_views * std::min(1.0, median_angle_deg / options.score_angle_deg);
+}
+
+TripletEstimate EstimateTriplet(const TrackIndex& index, const std::array<uint32_t, 3>& ids,
+                                const std::array<const TwoViewGeometry*, 3>& pairs, const TripletOptions& options,
+                                uint64_t seed) {
+  TripletEstimate out;
+  auto reject = [&out](TripletRejection r) {
+    out.rejection = r;
+    return out;
+  };
+  const std::vector<TripletTrack> tracks = TracksOfTriplet(index, ids);
+  if (static_cast<int>(tracks.size()) < options.min_tracks) return reject(TripletRejection::kTooFewTracks);
+
+  // 1. Base pair (positions va, vb) and third view vc.
+  static constexpr int kPairViews[3][2] = {{0, 1}, {0, 2}, {1, 2}};
+  int best = 0;
+  double best_score = -1.0, best_angle = 0.0;
+  for (int p = 0; p < 3; ++p) {
+    const double s = TripletScore(pairs[p]->num_inliers, pairs[p]->median_triangulation_angle_deg, options);
+    best_angle = std::max(best_angle, pairs[p]->median_triangulation_angle_deg);
+    if (s > best_score) best_score = s, best = p;
+  }
+  if (best_angle < options.min_triangulation_angle_deg) return reject(TripletRejection::kDegenerate);
+  const int va = kPairViews[best][0], vb = kPairViews[best][1], vc = 3 - va - vb;
+  std::array<Pose, 3> poses;
+  poses[vb] = RelativePoseOfPair(*pairs[best], ids[va], ids[vb]);
+
+  // 2. Scale from the base pair's points; third view by absolute pose on them.
+  TriangulationOptions tri;
+  tri.outlier_px = options.outlier_threshold_px;
+  tri.min_angle_deg = options.min_track_angle_deg;
+  std::vector<Eigen::Vector3d> bearings_c, points;
+  for (const TripletTrack& t : tracks) {
+    if (t.NumViews() < 3) continue;
+    const TriangulatedPoint X = TriangulateTrack(
+        {ViewOf(index, ids[va], t.point2D_idx[va], poses[va]), ViewOf(index, ids[vb], t.point2D_idx[vb], poses[vb])},
+        tri);
+    if (!X.ok || std::max(X.residuals_px[0], X.residuals_px[1]) > options.outlier_threshold_px) continue;
+    bearings_c.push_back(index.Bearing(ids[vc], static_cast<uint32_t>(t.point2D_idx[vc])));
+    points.push_back(X.X);
+  }
+  if (static_cast<int>(points.size()) < options.absolute_pose.min_inliers)
+    return reject(TripletRejection::kTooFewTracks);
+  AbsolutePoseOptions ap = options.absolute_pose;
+  ap.seed = seed;
+  const AbsolutePoseResult abs = EstimateAbsolutePose(bearings_c, points, index.CameraOf(ids[vc]).MeanFocal(), ap);
+  if (!abs.success) return reject(TripletRejection::kInitFailed);
+  poses[vc] = abs.pose;
+  for (int v : {va, vb}) {
+    const Eigen::Matrix3d R_cv = poses[vc].R() * poses[v].R().transpose();
+    const Eigen::Matrix3d R_pair = RelativePoseOfPair(*pairs[PairIndex(v, vc)], ids[v], ids[vc]).R();
+    if (RotationAngleDeg(R_cv, R_pair) > options.max_rotation_cycle_deg) return reject(TripletRejection::kRotationCycle);
+  }
+
+  // 3. Every track seen by >= 2 views, robustly triangulated with the three poses.
+  Reconstruction local = MakeLocalModel(index, ids, poses);
+  for (const TripletTrack& t : tracks) {
+    std::vector<TrackView> views;
+    std::vector<int> which;
+    for (int v = 0; v < 3; ++v) {
+      if (t.point2D_idx[v] < 0) continue;
+      views.push_back(ViewOf(index, ids[v], t.point2D_idx[v], poses[v]));
+      which.push_back(v);
+    }
+    const TriangulatedPoint X = TriangulateTrack(views, tri);
+    if (!X.ok) continue;
+    Point3D point;
+    point.point3D_id = t.track_id;
+    point.xyz = X.X;
+    for (size_t k = 0; k < views.size(); ++k)
+      if (X.residuals_px[k] <= options.outlier_threshold_px)
+        point.track.push_back({ids[which[k]], static_cast<uint32_t>(t.point2D_idx[which[k]])});
+    if (point.track.size() >= 2) local.points3D.emplace(t.track_id, std::move(point));
+  }
+  if (static_cast<int>(local.points3D.size()) < options.min_tracks) return reject(TripletRejection::kTooFewTracks);
+
+  // 4. Triplet BA, outlier observations removed and re-solved.
+  BundleAdjustmentProblem problem;
+  problem.image_ids = {ids[0], ids[1], ids[2]};
+  problem.fix_gauge = true;
+  problem.gauge_anchor = ids[va];
+  problem.gauge_scale = ids[vb];
+  BundleAdjusterOptions ba = options.bundle_adjuster;
+  ba.num_threads = 1;
+  BundleAdjustmentSummary summary;
+  for (int round = 0;; ++round) {
+    summary = BundleAdjust(problem, ba, &local);
+    out.ba_iterations += summary.iterations;
+    if (!summary.usable) return reject(TripletRejection::kNotConverged);
+    if (round == 3 || RemoveOutlierObservations(options.outlier_threshold_px, &local) == 0) break;
+    if (static_cast<int>(local.points3D.size()) < options.min_tracks) return reject(TripletRejection::kTooFewTracks);
+  }
+  if (!summary.converged) return reject(TripletRejection::kNotConverged);
+
+  // 5. Checks on the refined triplet.
+  if (static_cast<int>(local.points3D.size()) < options.min_tracks) return reject(TripletRejection::kTooFewTracks);
+  std::vector<double> angles;
+  double sq = 0.0;
+  int num_obs = 0;
+  for (const auto& [pid, point] : local.points3D) {
+    std::vector<TrackView> views;
+    for (const TrackElement& el : point.track)
+      views.push_back(ViewOf(index, el.image_id, el.point2D_idx, local.images.at(el.image_id).pose));
+    angles.push_back(MaxTriangulationAngleDeg(views, point.xyz));
+    for (double e : ObservationErrorsPx(local, pid)) sq += e * e, ++num_obs;
+    out.num_tracks_all_views += point.track.size() == 3;
+  }
+  out.median_triangulation_angle_deg = Median(angles);
+  const double rms = std::sqrt(sq / std::max(1, num_obs));
+  if (out.median_triangulation_angle_deg < options.min_triangulation_angle_deg)
+    return reject(TripletRejection::kDegenerate);
+  if (!(rms <= options.max_rms_px)) return reject(TripletRejection::kHighRms);
+
+  // 6. Canonical gauge: view 0 at the identity, |c_1 - c_0| = 1.
+  const Pose P0 = local.images.at(ids[0]).pose;
+  const Eigen::Vector3d C0 = P0.C();
+  const double d01 = (local.images.at(ids[1]).pose.C() - C0).norm();
+  const double d02 = (local.images.at(ids[2]).pose.C() - C0).norm();
+  if (!(d01 > 1e-6 * std::max(1.0, d02))) return reject(TripletRejection::kDegenerate);
+  Sim3 to_canonical;
+  to_canonical.s = 1.0 / d01;
+  to_canonical.R = P0.R();
+  to_canonical.t = -to_canonical.s * (to_canonical.R * C0);
+  Triplet& triplet = out.triplet;
+  triplet.image_ids = ids;
+  for (int k = 0; k < 3; ++k) triplet.local_poses[k] = to_canonical.Apply(local.images.at(ids[k]).pose);
+  triplet.local_poses[0] = Pose();  // exactly, not up to rounding
+  for (const auto& [pid, point] : local.points3D) triplet.track_ids.push_back(pid);
+  triplet.rms_px = rms;
+  out.score = TripletScore(out.num_tracks_all_views, out.median_triangulation_angle_deg, options);
+  return out;
+}
+
+const char* TripletRejectionName(TripletRejection r) {
+  switch (r) {
+    case TripletRejection::kNone: return "none";
+    case TripletRejection::kRotationCycle: return "rotation_cycle";
+    case TripletRejection::kTooFewTracks: return "too_few_tracks";
+    case TripletRejection::kInitFailed: return "init_failed";
+    case TripletRejection::kNotConverged: return "not_converged";
+    case TripletRejection::kHighRms: return "high_rms";
+    case TripletRejection::kDegenerate: return "degenerate";
+  }
+  return "unknown";
+}
+
+}  // namespace pgba

@@ -1,0 +1,84 @@
+// Options and statistics of the triplet stage (enumeration, estimation, triplet BA,
+// selection). Defaults suit 0.5-1 px noise and a few percent outlier observations.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+
+#include "modules/triplets/absolute_pose.h"
+#include "pgba/optim/bundle_adjuster.h"
+
+namespace pgba {
+
+struct TripletOptions {
+  // --- selection ---
+  // Bound the triplet count on highly overlapping sets (triplet_selection.h): at most
+  // about `max_triplets_per_image` per image, best first, plus what connectivity needs.
+  bool selection = true;
+  int max_triplets_per_image = 6;
+  // Rounds of select -> estimate -> replace the failures by the next best candidates.
+  int max_selection_rounds = 20;
+  // --- candidates ---
+  // Triangles of the view graph whose pairwise rotations do not close (angle of
+  // R_ki^T R_kj R_ji, degrees) are inconsistent and skipped before estimation.
+  double max_rotation_cycle_deg = 3.0;
+  // --- estimation ---
+  // Third view placed by absolute pose on the points triangulated from the best pair
+  // (only an initialisation for the triplet BA: a loose threshold and few inliers suffice).
+  AbsolutePoseOptions absolute_pose = [] {
+    AbsolutePoseOptions o;
+    o.threshold_px = 4.0;
+    o.min_inliers = 10;
+    return o;
+  }();
+  // Observations farther than this from their reprojection are outliers (triangulation,
+  // triplet BA), pixels.
+  double outlier_threshold_px = 4.0;
+  // Tracks whose rays meet at less than this (degrees) are not used (depth unobservable).
+  double min_track_angle_deg = 0.25;
+  // Triplet BA (points eliminated first, Huber loss, view gauge described in triplets.h).
+  // num_threads is forced to 1: triplets run in parallel.
+  BundleAdjusterOptions bundle_adjuster = [] {
+    BundleAdjusterOptions o;
+    o.max_iterations = 200;
+    return o;
+  }();
+  // --- rejection ---
+  int min_tracks = 30;                       // tracks seen by >= 2 of the 3 views after the BA
+  double max_rms_px = 1.5;                   // reprojection RMS after the BA
+  double min_triangulation_angle_deg = 1.0;  // median over tracks: below = near pure rotation
+  // Score = tracks seen by all three views x min(1, median triangulation angle / this).
+  double score_angle_deg = 5.0;
+  uint64_t seed = 1;
+};
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(TripletOptions, selection, max_triplets_per_image,
+                                                max_selection_rounds, max_rotation_cycle_deg, absolute_pose,
+                                                outlier_threshold_px, min_track_angle_deg, bundle_adjuster, min_tracks,
+                                                max_rms_px, min_triangulation_angle_deg, score_angle_deg, seed)
+
+// Why a triplet was not kept.
+enum class TripletRejection { kNone, kRotationCycle, kTooFewTracks, kInitFailed, kNotConverged, kHighRms, kDegenerate };
+const char* TripletRejectionName(TripletRejection r);
+
+struct TripletStats {
+  int candidates = 0;                 // triangles of the view graph
+  int rejected_rotation_cycle = 0;    // before estimation
+  int rejected_few_tracks_precheck = 0;  // before estimation: too few shared tracks
+  int estimated = 0;                  // triplet estimations run
+  int rejected_too_few_tracks = 0;
+  int rejected_init_failed = 0;       // absolute pose of the third view failed
+  int rejected_not_converged = 0;
+  int rejected_high_rms = 0;
+  int rejected_degenerate = 0;        // near pure rotation / baseline tiny w.r.t. depth
+  int selection_rounds = 0;
+  int selected = 0;                   // triplets returned
+  int images_in_view_graph = 0;
+  int images_covered = 0;             // images in at least one returned triplet
+  int triplet_graph_components = 0;   // of the returned triplets (adjacency: shared pair)
+  double median_rms_px = 0.0;
+  double seconds = 0.0;
+};
+nlohmann::json ToJson(const TripletStats& stats);
+
+}  // namespace pgba

@@ -1,0 +1,58 @@
+// The view graph of the tracks pipeline: image pairs sharing enough tracks, each verified
+// by a calibrated relative pose (OpenGV 5-point RANSAC + refinement, modules/matching) and
+// kept only with enough inliers and a baseline that is not negligible w.r.t. depth.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <vector>
+
+#include "modules/matching/relative_pose.h"
+#include "pgba/scene/reconstruction.h"
+#include "pgba/scene/view_graph.h"
+
+namespace pgba {
+
+struct PairOptions {
+  // Candidate pairs share at least this many tracks.
+  int min_shared_tracks = 30;
+  // Candidates per image: a pair is kept if it is among the `max_pairs_per_image` pairs of
+  // either of its images sharing the most tracks (0 = no limit). Bounds the work on
+  // highly overlapping sets without losing any image's strongest links.
+  int max_pairs_per_image = 40;
+  // RANSAC + refinement (threshold_px is the inlier threshold in pixels).
+  RelativePoseOptions relative_pose;
+  // A verified pair has at least this many inliers and this inlier fraction.
+  int min_inliers = 30;
+  double min_inlier_ratio = 0.25;
+  // Median triangulation angle over the inliers below which a pair is a (near) pure
+  // rotation / a baseline too small w.r.t. depth, degrees.
+  double min_triangulation_angle_deg = 1.0;
+  // Base seed; every pair's RANSAC seed is derived from it and the image ids.
+  uint64_t seed = 1;
+};
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(PairOptions, min_shared_tracks, max_pairs_per_image, relative_pose,
+                                                min_inliers, min_inlier_ratio, min_triangulation_angle_deg, seed)
+
+struct PairStats {
+  int images = 0;
+  int pairs_sharing_tracks = 0;   // pairs with >= 1 shared track
+  int pairs_few_shared = 0;       // below min_shared_tracks
+  int pairs_capped = 0;           // dropped by max_pairs_per_image
+  int pairs_estimated = 0;
+  int rejected_no_model = 0;      // RANSAC found no model
+  int rejected_few_inliers = 0;   // below min_inliers / min_inlier_ratio
+  int rejected_small_angle = 0;   // median triangulation angle below the threshold
+  int pairs_kept = 0;
+  int images_in_view_graph = 0;   // images with at least one kept pair
+  double seconds = 0.0;
+};
+nlohmann::json ToJson(const PairStats& stats);
+
+// Verified pairs of the tracks model, sorted by (image_id1, image_id2), image_id1 <
+// image_id2. Parallel over pairs (TBB); the result does not depend on the thread count.
+// Throws InputError for inconsistent tracks.
+std::vector<TwoViewGeometry> EstimatePairs(const Reconstruction& tracks, const PairOptions& options,
+                                           PairStats* stats = nullptr);
+
+}  // namespace pgba
