@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <random>
@@ -106,6 +107,46 @@ Eigen::Matrix3d NoiseRotation(Rng& rng, double deg) {
   return ExpSO3(Eigen::Vector3d(n(rng), n(rng), n(rng)));
 }
 
+
+// The pair (id1, id2) of the true poses: R_21 and the unit t_21 with noise.
+template <typename Rng>
+TwoViewGeometry MakePair(const std::map<uint32_t, Pose>& poses, uint32_t id1, uint32_t id2, const NoiseModel& noise,
+                         Rng& rng) {
+  const Pose& P1 = poses.at(id1);
+  const Pose& P2 = poses.at(id2);
+  TwoViewGeometry p;
+  p.image_id1 = id1;
+  p.image_id2 = id2;
+  p.R_21 = NoiseRotation(rng, noise.rotation_deg) * P2.R() * P1.R().transpose();
+  p.t_21 = NoiseRotation(rng, noise.direction_deg) * (P2.R() * (P1.C() - P2.C())).normalized();
+  return p;
+}
+
+// The triplet `ids` in a random local frame (global->local similarity *truth, scale
+// 0.2..5), its local rotations and centres perturbed.
+template <typename Rng>
+Triplet MakeTriplet(const std::map<uint32_t, Pose>& poses, const std::array<uint32_t, 3>& ids,
+                    const NoiseModel& noise, Rng& rng, Sim3* truth) {
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  Triplet t;
+  t.image_ids = ids;
+  Sim3& d = *truth;
+  d.s = std::exp(std::log(0.2) + (std::log(5.0) - std::log(0.2)) * u01(rng));
+  d.R = RandomRotation(rng);
+  d.t = Eigen::Vector3d(u01(rng), u01(rng), u01(rng)) * 10.0 - Eigen::Vector3d::Constant(5.0);
+  double size = 0.0;
+  for (int k = 0; k < 3; ++k) size = std::max(size, (poses.at(ids[k]).C() - poses.at(ids[(k + 1) % 3]).C()).norm());
+  std::normal_distribution<double> centre_noise(0.0, noise.centre_rel * size * d.s);
+  for (int k = 0; k < 3; ++k) {
+    const Pose local = d.Apply(poses.at(ids[k]));
+    const Eigen::Vector3d dc(centre_noise(rng), centre_noise(rng), centre_noise(rng));
+    // Two local rotations differ by sqrt(2) x this noise: the same as a pair's.
+    t.local_poses[k] =
+        Pose::FromRC(NoiseRotation(rng, noise.rotation_deg / std::sqrt(2.0)) * local.R(), local.C() + dc);
+  }
+  return t;
+}
+
 struct RelativeMotions {
   std::vector<TwoViewGeometry> pairs;
   std::vector<Triplet> triplets;
@@ -113,7 +154,7 @@ struct RelativeMotions {
 };
 
 // Pairs between cameras closer than the layout's pair radius; triplets = all triangles of
-// that graph. Local frames get a random similarity (scale 0.2..5).
+// that graph.
 inline RelativeMotions MakeRelativeMotions(const GroundTruth& gt, const NoiseModel& noise, uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u01(0.0, 1.0);
@@ -124,41 +165,67 @@ inline RelativeMotions MakeRelativeMotions(const GroundTruth& gt, const NoiseMod
   for (size_t a = 0; a < ids.size(); ++a)
     for (size_t b = a + 1; b < ids.size(); ++b) {
       if (!close(ids[a], ids[b])) continue;
-      const Pose& P1 = gt.poses.at(ids[a]);
-      const Pose& P2 = gt.poses.at(ids[b]);
-      TwoViewGeometry p;
-      p.image_id1 = ids[a];
-      p.image_id2 = ids[b];
-      p.R_21 = NoiseRotation(rng, noise.rotation_deg) * P2.R() * P1.R().transpose();
-      p.t_21 = NoiseRotation(rng, noise.direction_deg) * (P2.R() * (P1.C() - P2.C())).normalized();
+      TwoViewGeometry p = MakePair(gt.poses, ids[a], ids[b], noise, rng);
       p.num_inliers = 100 + static_cast<int>(200 * u01(rng));
       p.num_tracks = p.num_inliers + 20;
       m.pairs.push_back(p);
       for (size_t c = b + 1; c < ids.size(); ++c) {
         if (!close(ids[a], ids[c]) || !close(ids[b], ids[c])) continue;
-        Triplet t;
-        t.image_ids = {ids[a], ids[b], ids[c]};
         Sim3 d;
-        d.s = std::exp(std::log(0.2) + (std::log(5.0) - std::log(0.2)) * u01(rng));
-        d.R = RandomRotation(rng);
-        d.t = Eigen::Vector3d(u01(rng), u01(rng), u01(rng)) * 10.0 - Eigen::Vector3d::Constant(5.0);
-        double size = 0.0;
-        for (int k = 0; k < 3; ++k)
-          for (int l = k + 1; l < 3; ++l)
-            size = std::max(size, (gt.poses.at(t.image_ids[k]).C() - gt.poses.at(t.image_ids[l]).C()).norm());
-        std::normal_distribution<double> centre_noise(0.0, noise.centre_rel * size * d.s);
-        for (int k = 0; k < 3; ++k) {
-          const Pose local = d.Apply(gt.poses.at(t.image_ids[k]));
-          const Eigen::Vector3d dc(centre_noise(rng), centre_noise(rng), centre_noise(rng));
-          t.local_poses[k] = Pose::FromRC(NoiseRotation(rng, noise.rotation_deg / std::sqrt(2.0)) * local.R(),
-                                          local.C() + dc);
-        }
+        Triplet t = MakeTriplet(gt.poses, {ids[a], ids[b], ids[c]}, noise, rng, &d);
         const int tracks = 50 + static_cast<int>(100 * u01(rng));
         for (int k = 0; k < tracks; ++k) t.track_ids.push_back(k);
         m.triplets.push_back(t);
         m.true_global_to_local.push_back(d);
       }
     }
+  return m;
+}
+
+// Pairs of images sharing at least `min_pair_tracks` tracks of `scene` and triplets whose
+// three images share at least `min_triplet_tracks` tracks (and whose three pairs exist),
+// with relative motions from the scene's true poses and the given noise: the view graph of
+// a real scene, the motions of a perfect front end plus noise.
+inline RelativeMotions MakeRelativeMotionsFromTracks(const Reconstruction& scene, const NoiseModel& noise,
+                                                     uint64_t seed, int min_pair_tracks = 20,
+                                                     int min_triplet_tracks = 30) {
+  std::map<uint32_t, Pose> poses;
+  for (const auto& [id, im] : scene.images) poses[id] = im.pose;
+  std::map<std::pair<uint32_t, uint32_t>, int> pair_count;
+  std::map<std::array<uint32_t, 3>, std::vector<uint64_t>> triplet_tracks;
+  for (const auto& [pid, point] : scene.points3D) {
+    std::vector<uint32_t> ids;
+    for (const TrackElement& e : point.track) ids.push_back(e.image_id);
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    for (size_t a = 0; a < ids.size(); ++a)
+      for (size_t b = a + 1; b < ids.size(); ++b) {
+        ++pair_count[{ids[a], ids[b]}];
+        for (size_t c = b + 1; c < ids.size(); ++c) triplet_tracks[{ids[a], ids[b], ids[c]}].push_back(pid);
+      }
+  }
+  std::mt19937_64 rng(seed);
+  RelativeMotions m;
+  for (const auto& [key, count] : pair_count) {
+    if (count < min_pair_tracks) continue;
+    TwoViewGeometry p = MakePair(poses, key.first, key.second, noise, rng);
+    p.num_tracks = p.num_inliers = count;
+    m.pairs.push_back(p);
+  }
+  auto has_pair = [&](uint32_t a, uint32_t b) {
+    auto it = pair_count.find({a, b});
+    return it != pair_count.end() && it->second >= min_pair_tracks;
+  };
+  for (const auto& [ids, tracks] : triplet_tracks) {
+    if (static_cast<int>(tracks.size()) < min_triplet_tracks || !has_pair(ids[0], ids[1]) ||
+        !has_pair(ids[0], ids[2]) || !has_pair(ids[1], ids[2]))
+      continue;
+    Sim3 d;
+    Triplet t = MakeTriplet(poses, ids, noise, rng, &d);
+    t.track_ids = tracks;
+    m.triplets.push_back(t);
+    m.true_global_to_local.push_back(d);
+  }
   return m;
 }
 
