@@ -95,6 +95,34 @@ TEST(Triangulation, LinearTwoAndManyViewsExact) {
   EXPECT_FALSE(TriangulateLinear({Pose()}, {Eigen::Vector3d::UnitZ()}, &X));
 }
 
+// Georeferenced scenes (UTM-like coordinates, 1e6 m from the origin, cameras 10 m from the
+// point): the result must still be exact to the scene's scale, not to the coordinates'.
+TEST(Triangulation, FarFromOriginExact) {
+  std::mt19937 rng(11);
+  const Camera cam = MakeCamera(CameraModel::kPinhole);
+  const Eigen::Vector3d offset(4.5e6, -3.2e6, 1.2e3);
+  for (int n : {2, 3, 6}) {
+    for (int trial = 0; trial < 50; ++trial) {
+      Scene s = MakeScene(rng, &cam, n);
+      s.X += offset;
+      for (auto& v : s.views) v.pose = Pose::FromRC(v.pose.R(), v.pose.C() + offset);
+      std::vector<Pose> poses;
+      std::vector<Eigen::Vector3d> bearings;
+      for (const auto& v : s.views) {
+        poses.push_back(v.pose);
+        bearings.push_back(cam.PixelToBearing(v.pixel));
+      }
+      Eigen::Vector3d X;
+      ASSERT_TRUE(TriangulateLinear(poses, bearings, &X)) << n;
+      EXPECT_LT((X - s.X).norm(), 1e-7) << n;  // 1e-13 of the coordinates (rounding: 1e-10 m)
+      const TriangulatedPoint p = TriangulateTrack(s.views);
+      ASSERT_TRUE(p.ok);
+      EXPECT_LT((p.X - s.X).norm(), 1e-6) << n;
+      for (double r : p.residuals_px) EXPECT_LT(r, 1e-3);
+    }
+  }
+}
+
 TEST(Triangulation, TrackExactWithoutNoiseForEveryCameraModel) {
   std::mt19937 rng(2);
   for (CameraModel model : {CameraModel::kSimplePinhole, CameraModel::kPinhole, CameraModel::kSimpleRadial,
