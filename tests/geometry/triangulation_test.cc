@@ -215,6 +215,32 @@ TEST(Triangulation, RobustToOneGrossOutlier) {
   EXPECT_GT(checked, 250);
 }
 
+// A long track (80 views, more than the consensus samples) with 30% gross outliers: the
+// inliers' estimate is recovered and exactly the outliers are flagged.
+TEST(Triangulation, LongTrackWithManyOutliers) {
+  std::mt19937 rng(12);
+  const Camera cam = MakeCamera(CameraModel::kSimpleRadial);
+  std::normal_distribution<double> noise(0.0, 0.5);
+  std::uniform_real_distribution<double> ux(0, 1920), uy(0, 1080);
+  for (int trial = 0; trial < 10; ++trial) {
+    Scene s = MakeScene(rng, &cam, 80);
+    std::vector<bool> bad(80, false);
+    for (size_t i = 0; i < s.views.size(); ++i) {
+      const Eigen::Vector2d clean = s.views[i].pixel;
+      s.views[i].pixel += Eigen::Vector2d(noise(rng), noise(rng));
+      if (i % 10 < 3) {
+        do s.views[i].pixel = Eigen::Vector2d(ux(rng), uy(rng));
+        while ((s.views[i].pixel - clean).norm() < 20.0);
+        bad[i] = true;
+      }
+    }
+    const TriangulatedPoint p = TriangulateTrack(s.views);
+    ASSERT_TRUE(p.ok);
+    EXPECT_LT((p.X - s.X).norm(), 0.01);
+    for (size_t i = 0; i < s.views.size(); ++i) EXPECT_EQ(p.residuals_px[i] > 4.0, bad[i]) << i;
+  }
+}
+
 // Turning a camera by 180 degrees about its y axis puts the point behind it while its
 // observation stays on the same line through the centre (the backward ray): algebraically
 // the rays still intersect at the point, only the cheirality test can reject it.

@@ -301,7 +301,7 @@ const Malformed kMalformed[] = {
     {"camera_garbage_size", "cameras.txt", 2, "1 PINHOLE 640 abc 500 500 320 240", 2, "invalid integer 'abc'"},
     {"camera_nan", "cameras.txt", 3, "2 SIMPLE_RADIAL 800 600 nan 400 300 0.01", 3, "non-finite value 'nan'"},
     {"camera_inf", "cameras.txt", 3, "2 SIMPLE_RADIAL 800 600 700 400 300 -inf", 3, "non-finite"},
-    {"camera_overflow", "cameras.txt", 3, "2 SIMPLE_RADIAL 800 600 700 400 300 1e999", 3, "non-finite"},
+    {"camera_overflow", "cameras.txt", 3, "2 SIMPLE_RADIAL 800 600 700 400 300 1e999", 3, "out of range"},
     {"camera_unknown_model", "cameras.txt", 2, "1 FISHEYE_X 640 480 500 500 320 240", 2, "unknown or unsupported"},
     {"camera_param_count", "cameras.txt", 2, "1 PINHOLE 640 480 500 500 320", 2, "needs 4 parameters, got 3"},
     {"camera_duplicate_id", "cameras.txt", 3, "1 SIMPLE_RADIAL 800 600 700 400 300 0.01", 3, "duplicate CAMERA_ID"},
