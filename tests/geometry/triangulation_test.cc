@@ -95,6 +95,34 @@ TEST(Triangulation, LinearTwoAndManyViewsExact) {
   EXPECT_FALSE(TriangulateLinear({Pose()}, {Eigen::Vector3d::UnitZ()}, &X));
 }
 
+// Georeferenced scenes (UTM-like coordinates, 1e6 m from the origin, cameras 10 m from the
+// point): the result must still be exact to the scene's scale, not to the coordinates'.
+TEST(Triangulation, FarFromOriginExact) {
+  std::mt19937 rng(11);
+  const Camera cam = MakeCamera(CameraModel::kPinhole);
+  const Eigen::Vector3d offset(4.5e6, -3.2e6, 1.2e3);
+  for (int n : {2, 3, 6}) {
+    for (int trial = 0; trial < 50; ++trial) {
+      Scene s = MakeScene(rng, &cam, n);
+      s.X += offset;
+      for (auto& v : s.views) v.pose = Pose::FromRC(v.pose.R(), v.pose.C() + offset);
+      std::vector<Pose> poses;
+      std::vector<Eigen::Vector3d> bearings;
+      for (const auto& v : s.views) {
+        poses.push_back(v.pose);
+        bearings.push_back(cam.PixelToBearing(v.pixel));
+      }
+      Eigen::Vector3d X;
+      ASSERT_TRUE(TriangulateLinear(poses, bearings, &X)) << n;
+      EXPECT_LT((X - s.X).norm(), 1e-7) << n;  // 1e-13 of the coordinates (rounding: 1e-10 m)
+      const TriangulatedPoint p = TriangulateTrack(s.views);
+      ASSERT_TRUE(p.ok);
+      EXPECT_LT((p.X - s.X).norm(), 1e-6) << n;
+      for (double r : p.residuals_px) EXPECT_LT(r, 1e-3);
+    }
+  }
+}
+
 TEST(Triangulation, TrackExactWithoutNoiseForEveryCameraModel) {
   std::mt19937 rng(2);
   for (CameraModel model : {CameraModel::kSimplePinhole, CameraModel::kPinhole, CameraModel::kSimpleRadial,
@@ -185,6 +213,32 @@ TEST(Triangulation, RobustToOneGrossOutlier) {
     }
   }
   EXPECT_GT(checked, 250);
+}
+
+// A long track (80 views, more than the consensus samples) with 30% gross outliers: the
+// inliers' estimate is recovered and exactly the outliers are flagged.
+TEST(Triangulation, LongTrackWithManyOutliers) {
+  std::mt19937 rng(12);
+  const Camera cam = MakeCamera(CameraModel::kSimpleRadial);
+  std::normal_distribution<double> noise(0.0, 0.5);
+  std::uniform_real_distribution<double> ux(0, 1920), uy(0, 1080);
+  for (int trial = 0; trial < 10; ++trial) {
+    Scene s = MakeScene(rng, &cam, 80);
+    std::vector<bool> bad(80, false);
+    for (size_t i = 0; i < s.views.size(); ++i) {
+      const Eigen::Vector2d clean = s.views[i].pixel;
+      s.views[i].pixel += Eigen::Vector2d(noise(rng), noise(rng));
+      if (i % 10 < 3) {
+        do s.views[i].pixel = Eigen::Vector2d(ux(rng), uy(rng));
+        while ((s.views[i].pixel - clean).norm() < 20.0);
+        bad[i] = true;
+      }
+    }
+    const TriangulatedPoint p = TriangulateTrack(s.views);
+    ASSERT_TRUE(p.ok);
+    EXPECT_LT((p.X - s.X).norm(), 0.01);
+    for (size_t i = 0; i < s.views.size(); ++i) EXPECT_EQ(p.residuals_px[i] > 4.0, bad[i]) << i;
+  }
 }
 
 // Turning a camera by 180 degrees about its y axis puts the point behind it while its

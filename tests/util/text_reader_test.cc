@@ -112,7 +112,9 @@ TEST_F(TextReaderTest, ToDoubleIsStrict) {
   EXPECT_EQ(ErrorOf([&] { r.ToDouble("1.5x", "QW"); }), at + "invalid number '1.5x' for QW");
   EXPECT_EQ(ErrorOf([&] { r.ToDouble("nan", "X"); }), at + "non-finite value 'nan' for X");
   EXPECT_EQ(ErrorOf([&] { r.ToDouble("-inf", "X"); }), at + "non-finite value '-inf' for X");
-  EXPECT_EQ(ErrorOf([&] { r.ToDouble("1e999", "X"); }), at + "non-finite value '1e999' for X");
+  EXPECT_EQ(ErrorOf([&] { r.ToDouble("1e999", "X"); }), at + "invalid number '1e999' for X: out of range");
+  EXPECT_EQ(ErrorOf([&] { r.ToDouble("-1e999", "X"); }), at + "invalid number '-1e999' for X: out of range");
+  EXPECT_EQ(r.ToDouble("1e-400", "x"), 0.0);  // underflow to zero, as C does
   // An embedded NUL byte must not cut the token short.
   EXPECT_EQ(ErrorOf([&] { r.ToDouble(std::string("1\0" "5", 3), "X"); }), at + "invalid number '1\\x005' for X");
   // Long tokens are cut in messages, which stay on one line.

@@ -11,22 +11,38 @@
 
 namespace pgba {
 
+namespace {
+
+// Null vector of A (rows [b_i]_x [R_i | t_i]) -> X; false at infinity or degenerate.
+template <typename Matrix>
+bool SolveHomogeneous(const Matrix& A, Eigen::Vector3d* X) {
+  Eigen::JacobiSVD<Matrix> svd(A, Eigen::ComputeFullV);
+  const Eigen::Vector4d h = svd.matrixV().col(3);
+  if (!(std::abs(h(3)) >= 1e-12 * h.head<3>().norm())) return false;
+  *X = h.head<3>() / h(3);
+  return X->allFinite();
+}
+
+}  // namespace
+
 bool TriangulateLinear(const std::vector<Pose>& poses, const std::vector<Eigen::Vector3d>& bearings,
                        Eigen::Vector3d* X) {
   const int n = static_cast<int>(poses.size());
-  if (n < 2) return false;
-  Eigen::MatrixXd A(3 * n, 4);
-  for (int i = 0; i < n; ++i) {
+  if (n < 2 || bearings.size() != poses.size()) return false;
+  auto rows = [&](int i) {
     Eigen::Matrix<double, 3, 4> P;
     P.leftCols<3>() = poses[i].R();
     P.col(3) = poses[i].t();
-    A.middleRows<3>(3 * i) = Skew(bearings[i]) * P;
+    return Eigen::Matrix<double, 3, 4>(Skew(bearings[i]) * P);
+  };
+  if (n == 2) {  // the consensus search solves thousands of pairs: fixed size, no allocation
+    Eigen::Matrix<double, 6, 4> A;
+    A << rows(0), rows(1);
+    return SolveHomogeneous(A, X);
   }
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeFullV);
-  const Eigen::Vector4d h = svd.matrixV().col(3);
-  if (std::abs(h(3)) < 1e-12 * h.head<3>().norm()) return false;
-  *X = h.head<3>() / h(3);
-  return X->allFinite();
+  Eigen::MatrixXd A(3 * n, 4);
+  for (int i = 0; i < n; ++i) A.middleRows<3>(3 * i) = rows(i);
+  return SolveHomogeneous(A, X);
 }
 
 namespace {
@@ -72,12 +88,11 @@ double HuberCost(const std::vector<TrackView>& views, const std::vector<size_t>&
                  double k) {
   double cost = 0.0;
   for (size_t i : use) {
-    Eigen::Vector2d r;
-    Eigen::Matrix<double, 2, 3> J;
-    if (!Residual(views[i], X, &r, &J)) return std::numeric_limits<double>::infinity();
-    cost += Huber(r.norm(), k);
+    const Eigen::Vector3d xc = views[i].pose.ToCamera(X);
+    if (!(xc.z() > 1e-12 * xc.norm())) return std::numeric_limits<double>::infinity();
+    cost += Huber((views[i].camera->Project(xc) - views[i].pixel).norm(), k);
   }
-  return cost;
+  return std::isfinite(cost) ? cost : std::numeric_limits<double>::infinity();
 }
 
 // Huber-IRLS Gauss-Newton over the views in `use`, with step halving so that the cost never
@@ -115,14 +130,15 @@ bool RefineGaussNewton(const std::vector<TrackView>& views, const std::vector<si
   return true;
 }
 
-bool LinearFrom(const std::vector<TrackView>& views, const std::vector<size_t>& idx, Eigen::Vector3d* X) {
+bool LinearFrom(const std::vector<TrackView>& views, const std::vector<Eigen::Vector3d>& bearings,
+                const std::vector<size_t>& idx, Eigen::Vector3d* X) {
   std::vector<Pose> poses;
-  std::vector<Eigen::Vector3d> bearings;
+  std::vector<Eigen::Vector3d> b;
   for (size_t i : idx) {
     poses.push_back(views[i].pose);
-    bearings.push_back(views[i].camera->PixelToBearing(views[i].pixel));
+    b.push_back(bearings[i]);
   }
-  return TriangulateLinear(poses, bearings, X);
+  return TriangulateLinear(poses, b, X);
 }
 
 std::vector<size_t> Below(const std::vector<double>& res, double thr) {
@@ -207,21 +223,24 @@ TriangulatedPoint TriangulateTrack(const std::vector<TrackView>& views, const Tr
   std::vector<size_t> all(n);
   for (size_t i = 0; i < n; ++i) all[i] = i;
 
+  std::vector<Eigen::Vector3d> bearings(n);
+  for (size_t i = 0; i < n; ++i) bearings[i] = views[i].camera->PixelToBearing(views[i].pixel);
+
   Candidate best;
   Eigen::Vector3d X;
-  if (LinearFrom(views, all, &X)) best = RobustRefine(views, X, opt);
+  if (LinearFrom(views, bearings, all, &X)) best = RobustRefine(views, X, opt);
   // Consensus restart: an outlier observation pulls the linear solution (or puts it behind
   // a camera); start again from the two-view solution that most views agree with. Tracks
-  // are short; for long ones the pairs are drawn from 64 evenly spread views.
+  // are short; for long ones the pairs are drawn from 32 evenly spread views (496 pairs).
   if (n >= 3 && (!best.ok || best.inliers < n)) {
     std::vector<size_t> pick;
-    const size_t m = std::min<size_t>(n, 64);
+    const size_t m = std::min<size_t>(n, 32);
     for (size_t k = 0; k < m; ++k) pick.push_back(k * n / m);
     Candidate start;
     for (size_t a = 0; a < m; ++a) {
       for (size_t b = a + 1; b < m; ++b) {
         Eigen::Vector3d Y;
-        if (!LinearFrom(views, {pick[a], pick[b]}, &Y)) continue;
+        if (!LinearFrom(views, bearings, {pick[a], pick[b]}, &Y)) continue;
         const Candidate c = Score(views, Y, opt.outlier_px);
         if (Better(c, start)) start = c;
       }

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 
 #include "pgba/util/logging.h"
@@ -33,7 +34,9 @@ void ProgressBar::Finish() {
 
 void ProgressBar::Draw(size_t done, bool final) {
   const double t = timer_.Seconds();
-  const double frac = total_ ? static_cast<double>(done) / total_ : 1.0;
+  // Clamped: more increments than announced (a caller's miscount) must not make the bar
+  // longer than its width (std::string of a negative length would throw).
+  const double frac = total_ ? std::min(1.0, static_cast<double>(done) / total_) : 1.0;
   const double eta = frac > 0 ? t * (1.0 - frac) / frac : 0.0;
   const int width = 30;
   const int filled = static_cast<int>(frac * width + 0.5);

@@ -68,13 +68,16 @@ std::string TextReader::RestOfLine(size_t first_token) const {
 }
 
 double TextReader::ToDouble(const std::string& token, const char* what) const {
+  errno = 0;
   char* end = nullptr;
   const double v = std::strtod(token.c_str(), &end);
-  // The whole token must be the number (an embedded NUL byte ends strtod early). Underflow
-  // to a subnormal is fine (ERANGE is ignored: such values are written by %.17g and must
-  // round-trip); overflow gives inf, rejected with NaN below.
+  // The whole token must be the number (an embedded NUL byte ends strtod early).
   if (token.empty() || end != token.c_str() + token.size())
     Fail(std::string("invalid number '") + Printable(token) + "' for " + what);
+  // ERANGE is also set on underflow to a subnormal, which is a valid value (written by
+  // %.17g, it must round-trip); only overflow is an error.
+  if (errno == ERANGE && std::isinf(v))
+    Fail(std::string("invalid number '") + Printable(token) + "' for " + what + ": out of range");
   if (!std::isfinite(v)) Fail(std::string("non-finite value '") + Printable(token) + "' for " + what);
   return v;
 }
