@@ -2,6 +2,8 @@
 
 #include <ceres/ceres.h>
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -25,18 +27,23 @@ struct TrackInTriplet {
   std::array<int, 3> point2D_idx{-1, -1, -1};
 };
 
-// Pose prior of the local BA: sqrt(weight) * (block - centre) on C and on omega.
+// Pose prior of the local BA: A (x - x_in) over the three pose blocks, A^T A = prior.
 struct PosePriorCost {
-  PosePriorCost(const Eigen::Vector3d& center, double w_position, double w_rotation)
-      : center(center), sqrt_wp(std::sqrt(w_position)), sqrt_wr(std::sqrt(w_rotation)) {}
+  PosePriorCost(const Matrix18d& sqrt_prior, const Vector18d& center) : A(sqrt_prior), center(center) {}
   template <typename T>
-  bool operator()(const T* pose, T* r) const {
-    for (int i = 0; i < 3; ++i) r[i] = T(sqrt_wp) * (pose[i] - T(center(i)));
-    for (int i = 0; i < 3; ++i) r[3 + i] = T(sqrt_wr) * pose[3 + i];
+  bool operator()(const T* p0, const T* p1, const T* p2, T* r) const {
+    const T* poses[3] = {p0, p1, p2};
+    T d[18];
+    for (int k = 0; k < 3; ++k)
+      for (int i = 0; i < 6; ++i) d[6 * k + i] = poses[k][i] - T(center(6 * k + i));
+    for (int i = 0; i < 18; ++i) {
+      r[i] = A(i, 0) * d[0];
+      for (int j = 1; j < 18; ++j) r[i] += A(i, j) * d[j];
+    }
     return true;
   }
-  Eigen::Vector3d center;
-  double sqrt_wp, sqrt_wr;
+  Matrix18d A;
+  Vector18d center;
 };
 
 }  // namespace
@@ -98,29 +105,28 @@ LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const T
   const int m = static_cast<int>(problem->points.size());
   if (m < std::max(options.min_points, 1)) return LocalHessianStatus::kTooFewPoints;
   problem->observation_weight = AttenuationWeight(m, options.attenuation_q);
-  for (int k = 0; k < 3; ++k) problem->prior_centers[k] = problem->poses[k].x.head<3>();
+  for (int k = 0; k < 3; ++k) problem->prior_center.segment<6>(6 * k) = problem->poses[k].x;
   return LocalHessianStatus::kOk;
 }
 
 bool SolveLocalBundle(int max_iterations, LocalBundleProblem* p) {
   if (max_iterations > 0) {
+    // Huber on the pixel error, then the attenuation weight on the squared residual; one
+    // loss object shared by all observations.
+    ceres::ScaledLoss loss(new ceres::HuberLoss(p->huber_px), p->observation_weight, ceres::TAKE_OWNERSHIP);
     ceres::Problem::Options po;
-    po.loss_function_ownership = ceres::TAKE_OWNERSHIP;
+    po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     ceres::Problem problem(po);
     for (auto& pose : p->poses) problem.AddParameterBlock(pose.x.data(), 6);
     for (auto& X : p->points) problem.AddParameterBlock(X.data(), 3);
-    for (const LocalObservation& o : p->observations) {
-      // Huber on the pixel error, then the attenuation weight on the squared residual.
-      ceres::LossFunction* loss =
-          new ceres::ScaledLoss(new ceres::HuberLoss(p->huber_px), p->observation_weight, ceres::TAKE_OWNERSHIP);
-      problem.AddResidualBlock(ReprojectionError::Create(p->cameras[o.view], p->poses[o.view].R0, o.pixel), loss,
+    for (const LocalObservation& o : p->observations)
+      problem.AddResidualBlock(ReprojectionError::Create(p->cameras[o.view], p->poses[o.view].R0, o.pixel), &loss,
                                p->poses[o.view].x.data(), p->points[o.point].data());
-    }
-    if (p->prior_position > 0 || p->prior_rotation > 0) {
-      for (int k = 0; k < 3; ++k)
-        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<PosePriorCost, 6, 6>(new PosePriorCost(
-                                     p->prior_centers[k], p->prior_position, p->prior_rotation)),
-                                 nullptr, p->poses[k].x.data());
+    if (!p->prior.isZero(0.0)) {
+      const Matrix18d A = Eigen::SelfAdjointEigenSolver<Matrix18d>(p->prior).operatorSqrt();
+      problem.AddResidualBlock(
+          new ceres::AutoDiffCostFunction<PosePriorCost, 18, 6, 6, 6>(new PosePriorCost(A, p->prior_center)), nullptr,
+          p->poses[0].x.data(), p->poses[1].x.data(), p->poses[2].x.data());
     }
     ceres::Solver::Options so;
     so.linear_solver_type = ceres::DENSE_SCHUR;

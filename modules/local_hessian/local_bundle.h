@@ -27,11 +27,11 @@ struct LocalBundleProblem {
   // Weight of each squared residual: gamma / M (paper's attenuation), 1 if disabled.
   double observation_weight = 1.0;
   double huber_px = 1.0;
-  // Optional pose prior of the local BA (PriorPlacement::kLocalBAAndHessian): diagonal
-  // weights on (C - prior_center) and omega, centred at the input poses.
-  double prior_position = 0.0;
-  double prior_rotation = 0.0;
-  std::array<Eigen::Vector3d, 3> prior_centers;
+  // Optional pose prior of the local BA (PriorPlacement::kLocalBAAndHessian): cost
+  // 1/2 (x - x_in)^T prior (x - x_in) over the stacked 18-vector of the three pose blocks,
+  // centred at the input poses.
+  Matrix18d prior = Matrix18d::Zero();
+  Vector18d prior_center = Vector18d::Zero();
 };
 
 // gamma / M with gamma = M Q / (M + Q) (paper, implementation details); 1 for Q <= 0 or inf.

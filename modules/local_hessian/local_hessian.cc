@@ -46,9 +46,7 @@ LocalHessian ComputeLocalHessian(const Reconstruction& tracks, const Triplet& tr
   if (options.prior_placement == PriorPlacement::kLocalBAAndHessian) {
     // The extrinsics observed at their input values, with mu from h at the input.
     const ReducedCameraSystem h_in = ReducedCameraMatrix(problem);
-    const GaugePrior prior = ComputeGaugePrior(h_in.h, MedianDepth(problem), options);
-    problem.prior_position = prior.position;
-    problem.prior_rotation = prior.rotation;
+    problem.prior = ComputeGaugePrior(h_in.h, problem.poses, MedianDepth(problem), options).P;
   }
   if (!SolveLocalBundle(options.max_iterations, &problem)) {
     out.status = LocalHessianStatus::kSolverFailure;
@@ -64,19 +62,16 @@ LocalHessian ComputeLocalHessian(const Reconstruction& tracks, const Triplet& tr
     out.status = LocalHessianStatus::kNonFinite;
     return out;
   }
-  GaugePrior prior = ComputeGaugePrior(reduced.h, out.depth_scale, options);
+  GaugePrior prior = ComputeGaugePrior(reduced.h, problem.poses, out.depth_scale, options);
   out.eigenvalue_ratio = prior.eigenvalue_ratio;
-  if (options.prior_placement == PriorPlacement::kLocalBAAndHessian) {
-    prior.position = problem.prior_position;  // the prior the local BA used
-    prior.rotation = problem.prior_rotation;
-  }
-  out.prior_position = prior.position;
-  out.prior_rotation = prior.rotation;
-  if (!(prior.eigenvalue_ratio >= options.min_eigenvalue_ratio) || !(prior.rotation > 0)) {
+  if (options.prior_placement == PriorPlacement::kLocalBAAndHessian) prior.P = problem.prior;  // the one it used
+  out.prior = prior.P;
+  out.prior_mu = prior.mu;
+  if (!(prior.eigenvalue_ratio >= options.min_eigenvalue_ratio) || !(prior.mu > 0)) {
     out.status = LocalHessianStatus::kIllConditioned;
     return out;
   }
-  out.h = AddGaugePrior(reduced.h, prior);
+  out.h = reduced.h + prior.P;
   DecomposeReducedMatrix(out.h, &out.V, &out.D);  // paper eq. 5
   if (!out.V.allFinite() || !out.D.allFinite()) {
     out.status = LocalHessianStatus::kNonFinite;

@@ -39,6 +39,20 @@ enum class PriorPlacement {
 NLOHMANN_JSON_SERIALIZE_ENUM(PriorPlacement, {{PriorPlacement::kHessianOnly, "hessian_only"},
                                               {PriorPlacement::kLocalBAAndHessian, "local_ba_and_hessian"}})
 
+// Which directions the gauge prior weighs. Charts below: [c / L, omega] (scale-aware).
+enum class PriorShape {
+  // mu on every coordinate (ARCHITECTURE.md lesson: h + mu I). Also pulls the informative
+  // directions towards x0 by mu / lambda_i, i.e. up to ~1% for the weakest ones at 1e-6.
+  kIsotropic,
+  // mu only on the 7 directions of h's null space: the infinitesimal similarities of the
+  // local frame acting on x0 (translation, rotation about the centroid of the centres,
+  // scale), orthonormalised. The classical inner-constraint gauge: it leaves every
+  // informative direction of h untouched, so mu can be large enough to make the triplet
+  // similarities well determined in the global BA.
+  kSimilarity,
+};
+NLOHMANN_JSON_SERIALIZE_ENUM(PriorShape, {{PriorShape::kIsotropic, "isotropic"}, {PriorShape::kSimilarity, "similarity"}})
+
 struct LocalHessianOptions {
   // Levenberg-Marquardt iterations of the local BA (paper: a single iteration from the
   // triplet BA's solution). More iterations converge x0 further.
@@ -56,14 +70,15 @@ struct LocalHessianOptions {
   double max_reprojection_px = 4.0;
   // Triplets with fewer points are rejected (paper: 30).
   int min_points = 30;
-  // Gauge prior mu = prior_relative * largest eigenvalue of h (ARCHITECTURE.md lesson:
-  // 1e-6 lets the global similarities converge, 1e-9 is too weak).
-  double prior_relative = 1e-6;
-  // If true, the eigenvalue of the prior is taken in the chart [c / L, omega] with L the
-  // median point depth of the triplet: the position prior is mu / L^2 and the rotation prior
-  // mu, so the prior stays equally weak in both whatever the scale of the local frame. If
-  // false, mu I on [c, omega] as in the prototype (only sensible for local frames of unit
-  // scale).
+  // Gauge prior ("all three extrinsics observed"): mu = prior_relative * largest eigenvalue
+  // of h, on the directions chosen by prior_shape.
+  PriorShape prior_shape = PriorShape::kSimilarity;
+  double prior_relative = 1e-3;
+  // If true, mu and the prior's directions are taken in the chart [c / L, omega] with L the
+  // median point depth of the triplet (so the prior weighs positions and rotations alike
+  // whatever the scale of the local frame: isotropic means mu / L^2 on centres, mu on
+  // rotations). If false, in [c, omega] as in the prototype (only sensible for local frames
+  // of unit scale).
   bool prior_scale_aware = true;
   PriorPlacement prior_placement = PriorPlacement::kHessianOnly;
   // Rank test: in the scale-aware chart, the 11th largest eigenvalue of h before the prior
@@ -76,9 +91,9 @@ struct LocalHessianOptions {
   int num_threads = 0;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(LocalHessianOptions, max_iterations, attenuation_q, huber_px,
-                                                max_reprojection_px, min_points, prior_relative, prior_scale_aware,
-                                                prior_placement, min_eigenvalue_ratio, min_triangulation_angle_deg,
-                                                num_threads)
+                                                max_reprojection_px, min_points, prior_shape, prior_relative,
+                                                prior_scale_aware, prior_placement, min_eigenvalue_ratio,
+                                                min_triangulation_angle_deg, num_threads)
 
 enum class LocalHessianStatus {
   kOk = 0,
@@ -106,9 +121,9 @@ struct LocalHessian {
   // Reduced gradient g of paper eq. 3 at x0 (diagnostic: how converged x0 is; the global
   // cost omits it).
   Vector18d reduced_gradient = Vector18d::Zero();
-  // Diagonal prior added to h: mu on each position and each rotation coordinate.
-  double prior_position = 0.0;
-  double prior_rotation = 0.0;
+  // The gauge prior added to h (h = h_points + prior) and its mu.
+  Matrix18d prior = Matrix18d::Zero();
+  double prior_mu = 0.0;
   // Weight of each observation's squared residual, gamma / M (1 if disabled).
   double observation_weight = 1.0;
   // Median point depth L in the local frame (the length of the scale-aware chart).

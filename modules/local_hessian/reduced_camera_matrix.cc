@@ -3,7 +3,10 @@
 #include <ceres/jet.h>
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/QR>
 #include <cmath>
+
+#include "pgba/geometry/rotation.h"
 
 namespace pgba {
 
@@ -83,10 +86,26 @@ ReducedCameraSystem ReducedCameraMatrix(const LocalBundleProblem& p) {
   return out;
 }
 
-GaugePrior ComputeGaugePrior(const Matrix18d& h, double depth_scale, const LocalHessianOptions& options) {
+Eigen::Matrix<double, 18, 7> SimilarityGenerators(const std::array<PoseBlock, 3>& poses, double L) {
+  // X' = (1 + s) Exp(theta) (X - g) + g + t maps c_k to c_k + t + theta x (c_k - g) + s (c_k - g)
+  // and r_k to r_k Exp(-theta), i.e. omega_k to omega_k - theta (first order).
+  const Eigen::Vector3d g = (poses[0].x.head<3>() + poses[1].x.head<3>() + poses[2].x.head<3>()) / 3.0;
+  Eigen::Matrix<double, 18, 7> G = Eigen::Matrix<double, 18, 7>::Zero();
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d d = poses[k].x.head<3>() - g;
+    G.block<3, 3>(6 * k, 0) = Eigen::Matrix3d::Identity() / L;
+    G.block<3, 3>(6 * k, 3) = -Skew(d) / L;  // theta x d = -[d]_x theta
+    G.block<3, 3>(6 * k + 3, 3) = -Eigen::Matrix3d::Identity();
+    G.block<3, 1>(6 * k, 6) = d / L;
+  }
+  return G;
+}
+
+GaugePrior ComputeGaugePrior(const Matrix18d& h, const std::array<PoseBlock, 3>& poses, double depth_scale,
+                             const LocalHessianOptions& options) {
   GaugePrior prior;
   const double L = options.prior_scale_aware && depth_scale > 0 ? depth_scale : 1.0;
-  Vector18d s;
+  Vector18d s;  // [c, omega] = diag(s) [c / L, omega]
   for (int k = 0; k < 3; ++k) s.segment<6>(6 * k) << L, L, L, 1.0, 1.0, 1.0;
   const Matrix18d hs = s.asDiagonal() * h * s.asDiagonal();
   Eigen::SelfAdjointEigenSolver<Matrix18d> es(hs, Eigen::EigenvaluesOnly);
@@ -96,18 +115,18 @@ GaugePrior ComputeGaugePrior(const Matrix18d& h, double depth_scale, const Local
   if (!(lmax > 0) || !std::isfinite(lmax)) return prior;
   // 18 - 7 = 11 directions are not similarities of the local frame; the weakest is ev(7).
   prior.eigenvalue_ratio = ev(7) / lmax;
-  prior.rotation = options.prior_relative * lmax;
-  prior.position = prior.rotation / (L * L);
-  return prior;
-}
-
-Matrix18d AddGaugePrior(const Matrix18d& h, const GaugePrior& prior) {
-  Matrix18d out = h;
-  for (int k = 0; k < 3; ++k) {
-    for (int i = 0; i < 3; ++i) out(6 * k + i, 6 * k + i) += prior.position;
-    for (int i = 3; i < 6; ++i) out(6 * k + i, 6 * k + i) += prior.rotation;
+  prior.mu = options.prior_relative * lmax;
+  Matrix18d Ps;  // in the scaled chart
+  if (options.prior_shape == PriorShape::kIsotropic) {
+    Ps = prior.mu * Matrix18d::Identity();
+  } else {
+    const Eigen::HouseholderQR<Eigen::Matrix<double, 18, 7>> qr(SimilarityGenerators(poses, L));
+    const Eigen::Matrix<double, 18, 7> Q = qr.householderQ() * Eigen::Matrix<double, 18, 7>::Identity();
+    Ps = prior.mu * Q * Q.transpose();
   }
-  return out;
+  const Vector18d inv_s = s.cwiseInverse();
+  prior.P = inv_s.asDiagonal() * Ps * inv_s.asDiagonal();
+  return prior;
 }
 
 void DecomposeReducedMatrix(const Matrix18d& h, Matrix18d* V, Vector18d* D) {

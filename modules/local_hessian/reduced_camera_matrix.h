@@ -22,22 +22,26 @@ struct ReducedCameraSystem {
 // not included (see AddGaugePrior).
 ReducedCameraSystem ReducedCameraMatrix(const LocalBundleProblem& problem);
 
-// The weak prior that fixes the 7-dim similarity gauge of h ("all three extrinsics
-// observed"), and the rank test of the triplet.
+// The prior that fixes the 7-dim similarity gauge of h ("all three extrinsics observed"),
+// and the rank test of the triplet.
 struct GaugePrior {
-  double position = 0.0;  // mu_c added to each centre coordinate
-  double rotation = 0.0;  // mu_omega added to each rotation coordinate
+  Matrix18d P = Matrix18d::Zero();  // added to h
+  double mu = 0.0;
   // 11th largest / largest eigenvalue of h (before the prior) in the chart used for mu.
   double eigenvalue_ratio = 0.0;
 };
 
-// mu_omega = prior_relative * lambda_max and mu_c = mu_omega / L^2, the eigenvalue taken in
-// the chart [c / L, omega] (L = depth_scale) if options.prior_scale_aware; otherwise
-// mu_c = mu_omega = prior_relative * lambda_max(h).
-GaugePrior ComputeGaugePrior(const Matrix18d& h, double depth_scale, const LocalHessianOptions& options);
+// The directions h cannot see: the infinitesimal similarities of the local frame acting on
+// the poses (translation, rotation about the centroid of the centres, scale about it), in
+// the chart [c / L, omega] (L = 1 for the plain chart); 18 x 7, not orthonormal.
+Eigen::Matrix<double, 18, 7> SimilarityGenerators(const std::array<PoseBlock, 3>& poses, double L);
 
-// h + diag(mu_c I3, mu_omega I3, ...) over the three views.
-Matrix18d AddGaugePrior(const Matrix18d& h, const GaugePrior& prior);
+// mu = prior_relative * lambda_max, lambda_max the largest eigenvalue of h in the chart
+// [c / L, omega] (L = depth_scale if options.prior_scale_aware, else 1). P = mu I
+// (kIsotropic) or mu times the orthogonal projector onto SimilarityGenerators
+// (kSimilarity), in that chart, mapped back to [c, omega].
+GaugePrior ComputeGaugePrior(const Matrix18d& h, const std::array<PoseBlock, 3>& poses, double depth_scale,
+                             const LocalHessianOptions& options);
 
 // h = V^T diag(D)^2 V (paper eq. 5): rows of V orthonormal eigenvectors, eigenvalues
 // ascending, negative ones (rounding) clamped to 0 before the square root.
