@@ -1,0 +1,251 @@
+#include "modules/global_ba/global_ba.h"
+
+#include <ceres/ceres.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <thread>
+
+#include "modules/global_ba/triplet_residual.h"
+#include "modules/global_ba/triplet_selection.h"
+#include "modules/global_ba/triplet_similarity.h"
+#include "modules/global_ba/triplet_weighting.h"
+#include "pgba/optim/pose_parameterization.h"
+#include "pgba/util/error.h"
+#include "pgba/util/logging.h"
+#include "pgba/util/timer.h"
+
+namespace pgba {
+
+namespace {
+
+// One used triplet: its local Hessian, weight matrix, similarity and IRLS state.
+struct TripletTerm {
+  const LocalHessian* hessian = nullptr;
+  Matrix18d W;
+  double unit = 1.0;  // ResidualUnit
+  TripletSimilarity sim;
+  double irls_weight = 1.0;
+};
+
+struct Unknowns {
+  std::map<uint32_t, PoseBlock> poses;  // std::map: stable addresses for Ceres
+  std::vector<TripletTerm> terms;
+};
+
+std::map<uint32_t, Pose> CurrentPoses(const Unknowns& u) {
+  std::map<uint32_t, Pose> poses;
+  for (const auto& [id, block] : u.poses) poses[id] = block.ToPose();
+  return poses;
+}
+
+TripletMotionResidual MakeResidual(const Unknowns& u, const TripletTerm& t) {
+  std::array<Eigen::Matrix3d, 3> R0;
+  for (int k = 0; k < 3; ++k) R0[k] = u.poses.at(t.hessian->image_ids[k]).R0;
+  return TripletMotionResidual(R0, t.sim, t.hessian->local_poses, t.W);
+}
+
+// Fitting error e_s = |W_s (x_s - x0_s)| / unit_s at the current state.
+double FittingError(const Unknowns& u, const TripletTerm& t) {
+  const TripletMotionResidual f = MakeResidual(u, t);
+  const auto& ids = t.hessian->image_ids;
+  double r[18];
+  f(u.poses.at(ids[0]).x.data(), u.poses.at(ids[1]).x.data(), u.poses.at(ids[2]).x.data(), t.sim.x.data(), r);
+  return Eigen::Map<const Vector18d>(r).norm() / t.unit;
+}
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+// Robust scale of the fitting errors and the IRLS weights from them.
+double Reweight(Unknowns* u, const GlobalBAOptions& options) {
+  std::vector<double> e(u->terms.size());
+  for (size_t i = 0; i < u->terms.size(); ++i) e[i] = FittingError(*u, u->terms[i]);
+  const double sigma = Median(e);
+  for (size_t i = 0; i < u->terms.size(); ++i) u->terms[i].irls_weight = IrlsWeight(e[i], sigma, options.irls_factor);
+  return sigma;
+}
+
+class IterationReporter : public ceres::IterationCallback {
+ public:
+  IterationReporter(const Unknowns* unknowns, int round, GlobalBASummary* summary,
+                    const GlobalBAIterationCallback* callback)
+      : unknowns_(unknowns), round_(round), summary_(summary), callback_(callback) {}
+
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
+    // Iteration 0 of a later round repeats the previous round's end state (re-weighted).
+    if (s.iteration == 0 && round_ > 0) return ceres::SOLVER_CONTINUE;
+    if (s.iteration > 0) ++summary_->iterations;
+    summary_->cost_per_iteration.push_back(s.cost);
+    if (*callback_) {
+      const std::map<uint32_t, Pose> poses = CurrentPoses(*unknowns_);
+      GlobalBAIteration it;
+      it.iteration = summary_->iterations;
+      it.round = round_;
+      it.cost = s.cost;
+      it.poses = &poses;
+      (*callback_)(it);
+    }
+    return ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  const Unknowns* unknowns_;
+  int round_;
+  GlobalBASummary* summary_;
+  const GlobalBAIterationCallback* callback_;
+};
+
+// The reference triplet of the gauge: the one with the most points.
+size_t ReferenceTerm(const Unknowns& u) {
+  size_t best = 0;
+  for (size_t i = 1; i < u.terms.size(); ++i)
+    if (u.terms[i].hessian->num_points > u.terms[best].hessian->num_points) best = i;
+  return best;
+}
+
+void FixGauge(const GlobalBAOptions& options, Unknowns* u, ceres::Problem* problem) {
+  TripletTerm& ref = u->terms[ReferenceTerm(*u)];
+  if (options.gauge == GaugeFixing::kFixSimilarity) {
+    problem->SetParameterBlockConstant(ref.sim.x.data());
+    return;
+  }
+  PoseBlock& a = u->poses.at(ref.hessian->image_ids[0]);
+  PoseBlock& b = u->poses.at(ref.hessian->image_ids[1]);
+  problem->SetParameterBlockConstant(a.x.data());
+  int coord = 0;
+  (b.x.head<3>() - a.x.head<3>()).cwiseAbs().maxCoeff(&coord);
+  problem->SetManifold(b.x.data(), new ceres::SubsetManifold(6, {coord}));
+}
+
+// One IRLS round: Levenberg-Marquardt on the current weights. Returns the Ceres summary.
+ceres::Solver::Summary SolveRound(const GlobalBAOptions& options, double sigma, int round, Unknowns* u,
+                                  GlobalBASummary* summary, const GlobalBAIterationCallback& callback) {
+  ceres::Problem::Options po;
+  po.manifold_ownership = ceres::TAKE_OWNERSHIP;
+  ceres::Problem problem(po);
+  auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+  for (auto& [id, block] : u->poses) {
+    problem.AddParameterBlock(block.x.data(), 6);
+    ordering->AddElementToGroup(block.x.data(), 1);
+  }
+  for (TripletTerm& t : u->terms) {
+    problem.AddParameterBlock(t.sim.x.data(), 7);
+    ordering->AddElementToGroup(t.sim.x.data(), 0);  // eliminated first (Schur)
+    ceres::LossFunction* huber =
+        options.huber_factor > 0 && sigma > 0 ? new ceres::HuberLoss(options.huber_factor * sigma * t.unit) : nullptr;
+    ceres::LossFunction* loss = new ceres::ScaledLoss(huber, t.irls_weight, ceres::TAKE_OWNERSHIP);
+    const auto& ids = t.hessian->image_ids;
+    problem.AddResidualBlock(TripletMotionResidual::Create(MakeResidual(*u, t)), loss, u->poses.at(ids[0]).x.data(),
+                             u->poses.at(ids[1]).x.data(), u->poses.at(ids[2]).x.data(), t.sim.x.data());
+  }
+  FixGauge(options, u, &problem);
+
+  ceres::Solver::Options so;
+  so.linear_solver_type = ceres::SPARSE_SCHUR;
+  so.linear_solver_ordering = ordering;
+  so.max_num_iterations = options.max_iterations_per_round;
+  so.function_tolerance = options.function_tolerance;
+  so.parameter_tolerance = options.parameter_tolerance;
+  so.num_threads = options.num_threads > 0 ? options.num_threads
+                                           : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  so.logging_type = ceres::SILENT;
+  IterationReporter reporter(u, round, summary, &callback);
+  so.callbacks.push_back(&reporter);
+  so.update_state_every_iteration = static_cast<bool>(callback);
+  ceres::Solver::Summary s;
+  ceres::Solve(so, &problem, &s);
+  return s;
+}
+
+GlobalBAResult RunGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const std::vector<Triplet>& triplets,
+                           const std::vector<LocalHessian>& hessians, const GlobalBAOptions& options,
+                           const GlobalBAIterationCallback& callback) {
+  Timer timer;
+  const TripletSelection sel = SelectTriplets(initial_poses, triplets, hessians);
+  if (sel.hessian_indices.empty())
+    throw InputError("global BA: no usable triplet (" + std::to_string(hessians.size()) +
+                     " local hessians, none ok with initial poses for its three images)");
+
+  Unknowns u;
+  for (uint32_t id : sel.images) u.poses[id] = PoseBlock::FromPose(initial_poses.at(id));
+  for (int hi : sel.hessian_indices) {
+    TripletTerm t;
+    t.hessian = &hessians[hi];
+    t.W = TripletWeightMatrix(*t.hessian, options);
+    t.unit = ResidualUnit(*t.hessian, options);
+    std::array<Pose, 3> global;
+    for (int k = 0; k < 3; ++k) global[k] = initial_poses.at(t.hessian->image_ids[k]);
+    const Triplet& triplet = triplets[t.hessian->triplet_index];
+    t.sim = options.similarity_init == SimilarityInit::kFromPoses
+                ? InitializeSimilarity(global, t.hessian->local_poses, triplet.global_to_local)
+                : SimilarityFromSim3(global, triplet.global_to_local);
+    u.terms.push_back(t);
+  }
+
+  GlobalBAResult result;
+  GlobalBASummary& summary = result.summary;
+  summary.num_poses = static_cast<int>(u.poses.size());
+  summary.num_triplets = static_cast<int>(u.terms.size());
+  summary.num_params = 6 * summary.num_poses + 7 * summary.num_triplets;
+  summary.num_triplets_excluded = sel.num_excluded;
+  summary.excluded_images = sel.excluded_images;
+  if (sel.num_excluded > 0 || !sel.excluded_images.empty())
+    PGBA_LOG_WARN << "global BA: " << sel.num_excluded << " triplets and " << sel.excluded_images.size()
+                  << " images excluded (no usable local hessian, no initial pose, or outside the largest "
+                     "rigidly connected triplet component)";
+
+  for (int round = 0; round < std::max(1, options.max_rounds); ++round) {
+    const double sigma = Reweight(&u, options);
+    const ceres::Solver::Summary s = SolveRound(options, sigma, round, &u, &summary, callback);
+    if (round == 0) summary.initial_cost = s.initial_cost;
+    summary.final_cost = s.final_cost;
+    summary.rounds = round + 1;
+    for (auto& [id, block] : u.poses) block.Relinearize();
+    for (TripletTerm& t : u.terms) t.sim.Relinearize();
+    PGBA_LOG_DEBUG << "global BA round " << round << ": sigma " << sigma << ", cost " << s.initial_cost << " -> "
+                   << s.final_cost << " in " << s.iterations.size() - 1 << " iterations";
+    if (s.termination_type == ceres::FAILURE) throw InputError("global BA: solver failure: " + s.message);
+    const double decrease = s.initial_cost > 0 ? (s.initial_cost - s.final_cost) / s.initial_cost : 0.0;
+    if (round > 0 && decrease < options.round_tolerance) break;
+  }
+  summary.robust_scale = Reweight(&u, options);
+
+  result.poses = CurrentPoses(u);
+  result.similarities.assign(triplets.size(), Sim3());
+  result.irls_weights.assign(triplets.size(), 0.0);
+  for (const TripletTerm& t : u.terms) {
+    result.similarities[t.hessian->triplet_index] = t.sim.ToSim3();
+    result.irls_weights[t.hessian->triplet_index] = t.irls_weight;
+    summary.num_triplets_downweighted += t.irls_weight < 0.5;
+  }
+  summary.seconds = timer.Seconds();
+  PGBA_LOG_INFO << "global BA (" << (options.weighting == TripletWeighting::kHessian ? "pointless" : "averaging")
+                << "): " << summary.num_poses << " poses, " << summary.num_triplets << " triplets, "
+                << summary.iterations << " iterations in " << summary.rounds << " rounds, " << summary.seconds
+                << " s, fitting scale " << summary.robust_scale << ", " << summary.num_triplets_downweighted
+                << " triplets down-weighted";
+  return result;
+}
+
+}  // namespace
+
+GlobalBAResult PointlessGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const std::vector<Triplet>& triplets,
+                                 const std::vector<LocalHessian>& hessians, const GlobalBAOptions& options,
+                                 const GlobalBAIterationCallback& callback) {
+  return RunGlobalBA(initial_poses, triplets, hessians, options, callback);
+}
+
+GlobalBAResult AveragingGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const std::vector<Triplet>& triplets,
+                                 const std::vector<LocalHessian>& hessians, const GlobalBAOptions& options,
+                                 const GlobalBAIterationCallback& callback) {
+  GlobalBAOptions scalar = options;
+  scalar.weighting = TripletWeighting::kScalar;
+  return RunGlobalBA(initial_poses, triplets, hessians, scalar, callback);
+}
+
+}  // namespace pgba

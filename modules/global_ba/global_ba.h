@@ -1,0 +1,140 @@
+// The pointless global bundle adjustment (paper section 3, eq. 5) and the Aver_BA baseline
+// (the same relative motions averaged with scalar weights instead of the local Hessians).
+//
+// Unknowns: every global pose (PoseBlock: [C, omega], R = R0 Exp(omega)) and 7 similarity
+// parameters per triplet (triplet_similarity.h). Cost: sum_s w_s rho_s(|W_s (x_s - x0_s)|^2)
+// with rho_s Huber and w_s the IRLS weight from the triplet's fitting error. Solved by
+// Ceres (Levenberg-Marquardt, SPARSE_SCHUR, similarity blocks eliminated first) in IRLS
+// rounds; between rounds the weights are recomputed and the rotations re-linearised.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "modules/local_hessian/local_hessian.h"
+#include "pgba/geometry/pose.h"
+#include "pgba/geometry/sim3.h"
+#include "pgba/scene/view_graph.h"
+
+namespace pgba {
+
+// W_s of the residual W_s (x_s - x0_s).
+enum class TripletWeighting {
+  kHessian,  // W_s = D_s V_s, W_s^T W_s = h_s (pointless BA, paper eq. 5)
+  kScalar,   // Aver_BA: diag(1 / (sigma_p L_s) on positions, 1 / sigma_omega on rotations)
+};
+NLOHMANN_JSON_SERIALIZE_ENUM(TripletWeighting, {{TripletWeighting::kHessian, "hessian"},
+                                                {TripletWeighting::kScalar, "scalar"}})
+
+// The 7-dof gauge of the global problem (a similarity of the whole block).
+enum class GaugeFixing {
+  // The reference triplet's similarity is held constant (the paper's choice): the global
+  // frame is then that triplet's local frame mapped back by its initial similarity; it is
+  // held through that triplet's (weak) gauge prior, which is enough for a direct solver.
+  kFixSimilarity,
+  // The reference triplet's first pose is held constant and one centre coordinate of its
+  // second pose (the largest component of their baseline): the global frame stays the
+  // initial one, held strongly.
+  kFixPoseAndScale,
+};
+NLOHMANN_JSON_SERIALIZE_ENUM(GaugeFixing, {{GaugeFixing::kFixSimilarity, "fix_similarity"},
+                                           {GaugeFixing::kFixPoseAndScale, "fix_pose_and_scale"}})
+
+enum class SimilarityInit {
+  kFromPoses,    // alpha from the camera rotations, lambda / beta from the centres (default)
+  kFromTriplet,  // Triplet::global_to_local as given by the averaging stage
+};
+NLOHMANN_JSON_SERIALIZE_ENUM(SimilarityInit, {{SimilarityInit::kFromPoses, "from_poses"},
+                                              {SimilarityInit::kFromTriplet, "from_triplet"}})
+
+struct GlobalBAOptions {
+  TripletWeighting weighting = TripletWeighting::kHessian;
+  GaugeFixing gauge = GaugeFixing::kFixPoseAndScale;
+  SimilarityInit similarity_init = SimilarityInit::kFromPoses;
+  // IRLS rounds (each a Ceres solve followed by re-weighting and re-linearisation).
+  int max_rounds = 4;
+  // Levenberg-Marquardt iterations per round.
+  int max_iterations_per_round = 25;
+  // Stop the rounds when a round lowers the cost by less than this fraction.
+  double round_tolerance = 1e-6;
+  // Ceres convergence tolerances of each round.
+  double function_tolerance = 1e-10;
+  double parameter_tolerance = 1e-10;
+  // Fitting error of triplet s: e_s = |W_s (x_s - x0_s)| / n_s with n_s the residual norm of
+  // a 1 px pixel error (sqrt(gamma/M) for kHessian, 1 for kScalar); robust scale sigma = the
+  // median of e_s. IRLS weight w_s = 1 / (1 + (e_s / (irls_factor sigma))^2) (Cauchy);
+  // irls_factor <= 0 disables the reweighting (w_s = 1).
+  double irls_factor = 3.0;
+  // Huber threshold on |r_s|: huber_factor * sigma * n_s; <= 0 disables the Huber loss.
+  double huber_factor = 3.0;
+  // Aver_BA scalar weights: rotation sigma (radians) and position sigma as a fraction of the
+  // triplet's median point depth L_s (so both are angles seen from the scene). Only their
+  // ratio matters: the robust scale normalises the rest.
+  double scalar_rotation_sigma = 1e-3;
+  double scalar_position_sigma = 1e-3;
+  // Ceres threads; 0 = hardware concurrency.
+  int num_threads = 0;
+};
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(GlobalBAOptions, weighting, gauge, similarity_init, max_rounds,
+                                                max_iterations_per_round, round_tolerance, function_tolerance,
+                                                parameter_tolerance, irls_factor, huber_factor,
+                                                scalar_rotation_sigma, scalar_position_sigma, num_threads)
+
+// State handed to the iteration callback after every Levenberg-Marquardt iteration (and
+// once before the first, iteration 0): e.g. to evaluate sigma for a convergence curve.
+struct GlobalBAIteration {
+  int iteration = 0;  // counted over all rounds
+  int round = 0;
+  double cost = 0.0;  // under this round's weights
+  const std::map<uint32_t, Pose>* poses = nullptr;
+};
+using GlobalBAIterationCallback = std::function<void(const GlobalBAIteration&)>;
+
+struct GlobalBASummary {
+  int iterations = 0;  // Levenberg-Marquardt iterations over all rounds
+  int rounds = 0;
+  // Cost after each iteration (index 0: initial), under the weights of its round.
+  std::vector<double> cost_per_iteration;
+  double initial_cost = 0.0;
+  double final_cost = 0.0;
+  double seconds = 0.0;
+  // Unknowns: 6 per pose + 7 per triplet.
+  int num_params = 0;
+  int num_poses = 0;
+  int num_triplets = 0;  // used
+  // Triplets not used: hessian not ok, an image without initial pose, or outside the largest
+  // rigidly connected component (triplets sharing two images).
+  int num_triplets_excluded = 0;
+  // Initial poses of images in no used triplet (their pose is not refined or returned).
+  std::vector<uint32_t> excluded_images;
+  // Triplets whose final IRLS weight is below 0.5 (treated as outliers).
+  int num_triplets_downweighted = 0;
+  double robust_scale = 0.0;  // final sigma of the fitting errors (px-like units)
+};
+
+struct GlobalBAResult {
+  std::map<uint32_t, Pose> poses;  // refined poses of the images of the used triplets
+  // Final global->local similarity per input triplet (identity for unused ones) and the
+  // triplet's final IRLS weight (0 for unused ones).
+  std::vector<Sim3> similarities;
+  std::vector<double> irls_weights;
+  GlobalBASummary summary;
+};
+
+// Pointless global BA. `hessians` come from ComputeLocalHessians on `triplets` (matched by
+// LocalHessian::triplet_index; a mismatch of image ids is an InputError). Uses
+// options.weighting (kHessian by default).
+GlobalBAResult PointlessGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const std::vector<Triplet>& triplets,
+                                 const std::vector<LocalHessian>& hessians, const GlobalBAOptions& options,
+                                 const GlobalBAIterationCallback& callback = nullptr);
+
+// Aver_BA: the same problem and code path with TripletWeighting::kScalar.
+GlobalBAResult AveragingGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const std::vector<Triplet>& triplets,
+                                 const std::vector<LocalHessian>& hessians, const GlobalBAOptions& options,
+                                 const GlobalBAIterationCallback& callback = nullptr);
+
+}  // namespace pgba

@@ -1,0 +1,106 @@
+#include "modules/local_hessian/local_hessian.h"
+
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+
+#include <memory>
+
+#include "modules/local_hessian/local_bundle.h"
+#include "modules/local_hessian/reduced_camera_matrix.h"
+#include "pgba/util/logging.h"
+
+namespace pgba {
+
+const char* LocalHessianStatusName(LocalHessianStatus status) {
+  switch (status) {
+    case LocalHessianStatus::kOk:
+      return "ok";
+    case LocalHessianStatus::kInvalidInput:
+      return "invalid_input";
+    case LocalHessianStatus::kTooFewPoints:
+      return "too_few_points";
+    case LocalHessianStatus::kSolverFailure:
+      return "solver_failure";
+    case LocalHessianStatus::kNonFinite:
+      return "non_finite";
+    case LocalHessianStatus::kIllConditioned:
+      return "ill_conditioned";
+  }
+  return "unknown";
+}
+
+LocalHessian ComputeLocalHessian(const Reconstruction& tracks, const Triplet& triplet, int triplet_index,
+                                 const LocalHessianOptions& options) {
+  LocalHessian out;
+  out.triplet_index = triplet_index;
+  out.image_ids = triplet.image_ids;
+  out.local_poses = triplet.local_poses;
+
+  LocalBundleProblem problem;
+  out.status = BuildLocalBundleProblem(tracks, triplet, options, &problem);
+  if (out.status != LocalHessianStatus::kOk) return out;
+  out.num_points = static_cast<int>(problem.points.size());
+  out.num_observations = static_cast<int>(problem.observations.size());
+  out.observation_weight = problem.observation_weight;
+
+  if (options.prior_placement == PriorPlacement::kLocalBAAndHessian) {
+    // The extrinsics observed at their input values, with mu from h at the input.
+    const ReducedCameraSystem h_in = ReducedCameraMatrix(problem);
+    problem.prior = ComputeGaugePrior(h_in.h, problem.poses, MedianDepth(problem), options).P;
+  }
+  if (!SolveLocalBundle(options.max_iterations, &problem)) {
+    out.status = LocalHessianStatus::kSolverFailure;
+    return out;
+  }
+  for (int k = 0; k < 3; ++k) out.local_poses[k] = problem.poses[k].ToPose();
+  out.rms_px = RmsReprojectionPx(problem);
+  out.depth_scale = MedianDepth(problem);
+
+  const ReducedCameraSystem reduced = ReducedCameraMatrix(problem);  // paper eq. 3
+  out.reduced_gradient = reduced.g;
+  if (!reduced.h.allFinite() || !(out.depth_scale > 0) || !std::isfinite(out.depth_scale)) {
+    out.status = LocalHessianStatus::kNonFinite;
+    return out;
+  }
+  GaugePrior prior = ComputeGaugePrior(reduced.h, problem.poses, out.depth_scale, options);
+  out.eigenvalue_ratio = prior.eigenvalue_ratio;
+  if (options.prior_placement == PriorPlacement::kLocalBAAndHessian) prior.P = problem.prior;  // the one it used
+  out.prior = prior.P;
+  out.prior_mu = prior.mu;
+  if (!(prior.eigenvalue_ratio >= options.min_eigenvalue_ratio) || !(prior.mu > 0)) {
+    out.status = LocalHessianStatus::kIllConditioned;
+    return out;
+  }
+  out.h = reduced.h + prior.P;
+  DecomposeReducedMatrix(out.h, &out.V, &out.D);  // paper eq. 5
+  if (!out.V.allFinite() || !out.D.allFinite()) {
+    out.status = LocalHessianStatus::kNonFinite;
+    return out;
+  }
+  out.status = LocalHessianStatus::kOk;
+  return out;
+}
+
+LocalHessianResult ComputeLocalHessians(const Reconstruction& tracks, const std::vector<Triplet>& triplets,
+                                        const LocalHessianOptions& options) {
+  LocalHessianResult result;
+  result.hessians.resize(triplets.size());
+  std::unique_ptr<tbb::global_control> limit;
+  if (options.num_threads > 0)
+    limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, options.num_threads);
+  // Each triplet writes only its own slot: the result does not depend on scheduling.
+  tbb::parallel_for(size_t(0), triplets.size(), [&](size_t i) {
+    result.hessians[i] = ComputeLocalHessian(tracks, triplets[i], static_cast<int>(i), options);
+  });
+  for (const LocalHessian& h : result.hessians) ++result.status_counts[static_cast<int>(h.status)];
+  std::string rejected;
+  for (int s = 1; s < kNumLocalHessianStatus; ++s)
+    if (result.status_counts[s] > 0)
+      rejected += std::string(" ") + LocalHessianStatusName(static_cast<LocalHessianStatus>(s)) + "=" +
+                  std::to_string(result.status_counts[s]);
+  PGBA_LOG_INFO << "local hessians: " << result.num_ok() << " of " << triplets.size() << " triplets ok"
+                << (rejected.empty() ? "" : "; rejected:" + rejected);
+  return result;
+}
+
+}  // namespace pgba

@@ -1,0 +1,154 @@
+// Local Hessians of the triplets (paper section 3, "Local bundle adjustment"): per triplet a
+// bundle adjustment in the triplet's own frame over its 3 poses and its points, then the
+// 18x18 camera reduced matrix h (Schur complement on the points, paper eq. 3) and its eigen
+// decomposition h = V^T D^2 V (paper eq. 5), which the pointless global BA consumes.
+//
+// Chart (ARCHITECTURE.md): per view the 6-vector [c(3), omega(3)] with r = r0 * Exp(omega)
+// around the local BA's solution x0 = {r0_k, c0_k}; h is ordered view 0, 1, 2 of
+// Triplet::image_ids. Units: observations in pixels, so h is in 1/px^2 (times the
+// per-observation weight below).
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "pgba/geometry/pose.h"
+#include "pgba/scene/reconstruction.h"
+#include "pgba/scene/view_graph.h"
+
+namespace pgba {
+
+using Matrix18d = Eigen::Matrix<double, 18, 18>;
+using Vector18d = Eigen::Matrix<double, 18, 1>;
+
+// Where the weak pose prior that fixes the gauge ("all three extrinsics observed") goes.
+enum class PriorPlacement {
+  // Only into h: the prior is centred at the local BA's solution x0, so it has no gradient
+  // there and leaves x0 untouched; it only lifts the 7-dim similarity null space of h. The
+  // local BA itself runs without it (Levenberg-Marquardt damping copes with the gauge).
+  kHessianOnly,
+  // Also as residuals of the local BA, centred at the input poses (the paper's literal
+  // "extrinsics treated as observed"); mu is then taken from h at the input poses.
+  kLocalBAAndHessian,
+};
+NLOHMANN_JSON_SERIALIZE_ENUM(PriorPlacement, {{PriorPlacement::kHessianOnly, "hessian_only"},
+                                              {PriorPlacement::kLocalBAAndHessian, "local_ba_and_hessian"}})
+
+// Which directions the gauge prior weighs. Charts below: [c / L, omega] (scale-aware).
+enum class PriorShape {
+  // mu on every coordinate (ARCHITECTURE.md lesson: h + mu I). Also pulls the informative
+  // directions towards x0 by mu / lambda_i, i.e. up to ~1% for the weakest ones at 1e-6.
+  kIsotropic,
+  // mu only on the 7 directions of h's null space: the infinitesimal similarities of the
+  // local frame acting on x0 (translation, rotation about the centroid of the centres,
+  // scale), orthonormalised. The classical inner-constraint gauge: it leaves every
+  // informative direction of h untouched, so mu can be large enough to make the triplet
+  // similarities well determined in the global BA.
+  kSimilarity,
+};
+NLOHMANN_JSON_SERIALIZE_ENUM(PriorShape, {{PriorShape::kIsotropic, "isotropic"}, {PriorShape::kSimilarity, "similarity"}})
+
+struct LocalHessianOptions {
+  // Levenberg-Marquardt iterations of the local BA (paper: a single iteration from the
+  // triplet BA's solution). More iterations converge x0 further.
+  int max_iterations = 1;
+  // Attenuation: each observation's squared residual is weighted by gamma / M with
+  // gamma = M Q / (M + Q), i.e. by Q / (M + Q), M the triplet's number of points: every
+  // triplet then weighs like ~Q points (paper, implementation details). Q <= 0 or +inf
+  // disables it: weight 1 per observation, h is the plain (unattenuated) information and
+  // grows with M.
+  double attenuation_q = 10.0;
+  // Huber threshold on the pixel reprojection error (local BA and h's IRLS weights).
+  double huber_px = 1.0;
+  // Observations whose reprojection error after triangulation exceeds this (pixels) are left
+  // out of the triplet's problem (gross outliers); a point left with < 2 views is dropped.
+  double max_reprojection_px = 4.0;
+  // Triplets with fewer points are rejected (paper: 30).
+  int min_points = 30;
+  // Gauge prior ("all three extrinsics observed"): mu = prior_relative * largest eigenvalue
+  // of h, on the directions chosen by prior_shape.
+  PriorShape prior_shape = PriorShape::kSimilarity;
+  double prior_relative = 1e-3;
+  // If true, mu and the prior's directions are taken in the chart [c / L, omega] with L the
+  // median point depth of the triplet (so the prior weighs positions and rotations alike
+  // whatever the scale of the local frame: isotropic means mu / L^2 on centres, mu on
+  // rotations). If false, in [c, omega] as in the prototype (only sensible for local frames
+  // of unit scale).
+  bool prior_scale_aware = true;
+  PriorPlacement prior_placement = PriorPlacement::kHessianOnly;
+  // Rank test: in the scale-aware chart, the 11th largest eigenvalue of h before the prior
+  // (the weakest direction that is not a similarity of the local frame) must be at least this
+  // fraction of the largest, or the triplet is rejected as ill-conditioned.
+  double min_eigenvalue_ratio = 1e-10;
+  // Minimum triangulation angle of a triplet point (degrees); 0 keeps every point.
+  double min_triangulation_angle_deg = 0.0;
+  // TBB threads over triplets; 0 = all available.
+  int num_threads = 0;
+};
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(LocalHessianOptions, max_iterations, attenuation_q, huber_px,
+                                                max_reprojection_px, min_points, prior_shape, prior_relative,
+                                                prior_scale_aware, prior_placement, min_eigenvalue_ratio,
+                                                min_triangulation_angle_deg, num_threads)
+
+enum class LocalHessianStatus {
+  kOk = 0,
+  kInvalidInput,    // an image / camera / track of the triplet is missing, or a non-finite local pose
+  kTooFewPoints,    // fewer than min_points usable points
+  kSolverFailure,   // the local BA failed to evaluate
+  kNonFinite,       // NaN or inf in h
+  kIllConditioned,  // rank-deficient or ill-conditioned h (min_eigenvalue_ratio)
+};
+constexpr int kNumLocalHessianStatus = 6;
+const char* LocalHessianStatusName(LocalHessianStatus status);
+
+struct LocalHessian {
+  int triplet_index = -1;  // into the triplet list given to ComputeLocalHessians
+  std::array<uint32_t, 3> image_ids{};
+  LocalHessianStatus status = LocalHessianStatus::kInvalidInput;
+  // x0_s: the three local poses after the local BA, the linearisation point of h.
+  std::array<Pose, 3> local_poses;
+  // Camera reduced matrix including the gauge prior: h = h_points + prior.
+  Matrix18d h = Matrix18d::Zero();
+  // h = V^T diag(D)^2 V: rows of V are orthonormal eigenvectors, D the square roots of the
+  // eigenvalues (negative ones clamped to 0), ascending.
+  Matrix18d V = Matrix18d::Zero();
+  Vector18d D = Vector18d::Zero();
+  // Reduced gradient g of paper eq. 3 at x0 (diagnostic: how converged x0 is; the global
+  // cost omits it).
+  Vector18d reduced_gradient = Vector18d::Zero();
+  // The gauge prior added to h (h = h_points + prior) and its mu.
+  Matrix18d prior = Matrix18d::Zero();
+  double prior_mu = 0.0;
+  // Weight of each observation's squared residual, gamma / M (1 if disabled).
+  double observation_weight = 1.0;
+  // Median point depth L in the local frame (the length of the scale-aware chart).
+  double depth_scale = 1.0;
+  // Eigenvalue ratio of the rank test (11th largest / largest, scale-aware chart, no prior).
+  double eigenvalue_ratio = 0.0;
+  int num_points = 0;
+  int num_observations = 0;
+  // Unweighted RMS reprojection error (pixels) after the local BA.
+  double rms_px = 0.0;
+};
+
+struct LocalHessianResult {
+  std::vector<LocalHessian> hessians;  // one per input triplet, same order
+  std::array<int, kNumLocalHessianStatus> status_counts{};
+  int num_ok() const { return status_counts[0]; }
+};
+
+// One triplet (paper eqs. 1-3 and the decomposition of eq. 5).
+LocalHessian ComputeLocalHessian(const Reconstruction& tracks, const Triplet& triplet, int triplet_index,
+                                 const LocalHessianOptions& options);
+
+// Every triplet, in parallel (TBB; results do not depend on the thread count). Logs the
+// counts of rejected triplets per reason.
+LocalHessianResult ComputeLocalHessians(const Reconstruction& tracks, const std::vector<Triplet>& triplets,
+                                        const LocalHessianOptions& options);
+
+}  // namespace pgba

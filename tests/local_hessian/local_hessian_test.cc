@@ -1,0 +1,334 @@
+// Local Hessian: h against independent references (dense covariance of the full problem,
+// point-based cost with re-optimised points), rejection reasons, determinism.
+#include "modules/local_hessian/local_hessian.h"
+
+#include <ceres/ceres.h>
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <random>
+
+#include "modules/local_hessian/local_bundle.h"
+#include "modules/local_hessian/reduced_camera_matrix.h"
+#include "tests/local_hessian/ring_scene.h"
+
+namespace pgba {
+namespace {
+
+using testing::MakeRingScene;
+using testing::MakeTriplet;
+using testing::RingSceneOptions;
+
+// The local BA cost 1/2 sum w rho(|r|^2) at fixed poses, points re-optimised to convergence
+// (the point-based cost as a function of the cameras alone).
+double CostWithPointsOptimised(const LocalBundleProblem& p, const std::array<Pose, 3>& poses) {
+  std::array<PoseBlock, 3> blocks;
+  std::vector<Eigen::Vector3d> points = p.points;
+  ceres::Problem::Options po;
+  ceres::Problem problem(po);
+  for (int k = 0; k < 3; ++k) {
+    blocks[k] = PoseBlock::FromPose(poses[k]);
+    problem.AddParameterBlock(blocks[k].x.data(), 6);
+    problem.SetParameterBlockConstant(blocks[k].x.data());
+  }
+  for (const LocalObservation& o : p.observations)
+    problem.AddResidualBlock(
+        ReprojectionError::Create(p.cameras[o.view], blocks[o.view].R0, o.pixel),
+        new ceres::ScaledLoss(new ceres::HuberLoss(p.huber_px), p.observation_weight, ceres::TAKE_OWNERSHIP),
+        blocks[o.view].x.data(), points[o.point].data());
+  ceres::Solver::Options so;
+  so.linear_solver_type = ceres::DENSE_SCHUR;
+  so.max_num_iterations = 100;
+  so.function_tolerance = 1e-16;
+  so.gradient_tolerance = 1e-20;
+  so.parameter_tolerance = 1e-16;
+  so.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+  return summary.final_cost;
+}
+
+// Scale-aware comparison of two 18x18 matrices (positions scaled by L so that rotation and
+// position entries are commensurate): relative Frobenius difference.
+double RelativeDifference(const Matrix18d& a, const Matrix18d& b, double L) {
+  Vector18d s;
+  for (int k = 0; k < 3; ++k) s.segment<6>(6 * k) << L, L, L, 1, 1, 1;
+  const Matrix18d as = s.asDiagonal() * a * s.asDiagonal();
+  const Matrix18d bs = s.asDiagonal() * b * s.asDiagonal();
+  return (as - bs).norm() / bs.norm();
+}
+
+// (a) h is the inverse of the camera block of the covariance of the full problem, built
+// independently: Ceres' own Jacobian (Problem::Evaluate, with the Huber loss correction),
+// H = J^T J + prior, inverted densely.
+TEST(LocalHessian, EqualsInverseOfCameraBlockOfDenseCovariance) {
+  RingSceneOptions so;
+  so.num_points = 600;
+  so.seed = 11;
+  const Reconstruction rec = MakeRingScene(so);
+  std::mt19937_64 rng(3);
+  const Triplet t = MakeTriplet(rec, {1, 2, 4}, rng);
+  LocalHessianOptions opt;
+  opt.max_iterations = 5;
+  LocalBundleProblem p;
+  ASSERT_EQ(BuildLocalBundleProblem(rec, t, opt, &p), LocalHessianStatus::kOk);
+  // Push some observations into Huber's linear branch (1 px < error < 4 px), so that the
+  // IRLS weighting is exercised.
+  int pushed = 0;
+  for (size_t i = 0; i < p.observations.size(); i += 7, ++pushed) p.observations[i].pixel += Eigen::Vector2d(1.6, -1.5);
+  ASSERT_TRUE(SolveLocalBundle(opt.max_iterations, &p));
+  const ReducedCameraSystem red = ReducedCameraMatrix(p);
+  const double L = MedianDepth(p);
+  const GaugePrior prior = ComputeGaugePrior(red.h, p.poses, L, opt);
+  const Matrix18d h = red.h + prior.P;
+
+  // Dense reference.
+  ceres::Problem problem;
+  std::vector<double*> blocks;
+  std::array<PoseBlock, 3> poses = p.poses;
+  std::vector<Eigen::Vector3d> points = p.points;
+  for (auto& b : poses) blocks.push_back(b.x.data());
+  for (auto& X : points) blocks.push_back(X.data());
+  int outside_huber = 0;
+  for (const LocalObservation& o : p.observations) {
+    problem.AddResidualBlock(
+        ReprojectionError::Create(p.cameras[o.view], poses[o.view].R0, o.pixel),
+        new ceres::ScaledLoss(new ceres::HuberLoss(p.huber_px), p.observation_weight, ceres::TAKE_OWNERSHIP),
+        poses[o.view].x.data(), points[o.point].data());
+    const ReprojectionError e(p.cameras[o.view], poses[o.view].R0, o.pixel);
+    double r[2];
+    e(poses[o.view].x.data(), points[o.point].data(), r);
+    outside_huber += std::hypot(r[0], r[1]) > p.huber_px;
+  }
+  EXPECT_GT(outside_huber, 10);
+  ceres::Problem::EvaluateOptions eo;
+  eo.parameter_blocks = blocks;
+  eo.apply_loss_function = true;
+  ceres::CRSMatrix crs;
+  ASSERT_TRUE(problem.Evaluate(eo, nullptr, nullptr, nullptr, &crs));
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
+  for (int r = 0; r < crs.num_rows; ++r)
+    for (int i = crs.rows[r]; i < crs.rows[r + 1]; ++i) J(r, crs.cols[i]) = crs.values[i];
+  Eigen::MatrixXd H = J.transpose() * J;
+  H.topLeftCorner<18, 18>() += prior.P;
+  const Eigen::MatrixXd cov = H.fullPivLu().inverse();
+  const Matrix18d h_ref = cov.topLeftCorner<18, 18>().fullPivLu().inverse();
+  const double diff = RelativeDifference(h, h_ref, L);
+  EXPECT_LT(diff, 1e-6) << "points " << p.points.size();
+  // The camera covariance itself, compared where it is well determined (not in the
+  // prior-held gauge directions): the eigenvectors of h with large eigenvalues.
+  Matrix18d V;
+  Vector18d D;
+  DecomposeReducedMatrix(h, &V, &D);
+  for (int j = 7; j < 18; ++j) {
+    const Vector18d v = V.row(j).transpose();
+    const double var_h = 1.0 / (D(j) * D(j));
+    const double var_ref = v.dot(cov.topLeftCorner<18, 18>() * v);
+    EXPECT_NEAR(var_ref / var_h, 1.0, 1e-5) << "eigen direction " << j;
+  }
+  // Decomposition reproduces h.
+  EXPECT_LT(RelativeDifference(V.transpose() * D.cwiseAbs2().asDiagonal() * V, h, L), 1e-12);
+}
+
+// (c) On a noise-free triplet, moving the cameras along an eigenvector of h by epsilon
+// raises the point-based cost (points re-optimised) by epsilon^2 lambda / 2 (second order);
+// along the 7 similarity directions (gauge) it does not raise it at all.
+TEST(LocalHessian, PredictsPointBasedCostAlongEigenvectors) {
+  RingSceneOptions so;
+  so.num_points = 600;
+  so.noise_px = 0.0;
+  so.seed = 5;
+  const Reconstruction rec = MakeRingScene(so);
+  std::mt19937_64 rng(9);
+  const Triplet t = MakeTriplet(rec, {3, 4, 6}, rng);
+  const LocalHessianOptions opt;
+  const LocalHessian lh = ComputeLocalHessian(rec, t, 0, opt);
+  ASSERT_EQ(lh.status, LocalHessianStatus::kOk);
+  EXPECT_LT(lh.rms_px, 1e-6);
+  EXPECT_GT(lh.num_points, 50);
+  // The same observations and points, for the re-optimisation.
+  Triplet t0 = t;
+  t0.local_poses = lh.local_poses;
+  LocalBundleProblem p;
+  ASSERT_EQ(BuildLocalBundleProblem(rec, t0, opt, &p), LocalHessianStatus::kOk);
+  EXPECT_LT(CostWithPointsOptimised(p, lh.local_poses), 1e-18);
+
+  const Matrix18d h0 = lh.h - lh.prior;  // h without the gauge prior
+  const double lambda_max = lh.D(17) * lh.D(17);
+  const double target = 1e-4;  // cost increase aimed at (weighted px^2)
+  auto move = [&](const Vector18d& v, double eps) {
+    std::array<Pose, 3> moved;
+    for (int k = 0; k < 3; ++k) {
+      const Pose& x0 = lh.local_poses[k];
+      moved[k] = Pose::FromRC(x0.R() * ExpSO3(eps * v.segment<3>(6 * k + 3)), x0.C() + eps * v.segment<3>(6 * k));
+    }
+    return moved;
+  };
+  int informative = 0;
+  for (int j = 0; j < 18; ++j) {
+    const Vector18d v = lh.V.row(j).transpose();
+    const double curvature = v.dot(h0 * v);  // what h (without its prior) predicts
+    if (curvature < 1e-7 * lambda_max) continue;  // (nearly) a pure gauge direction: below
+    ++informative;
+    const double eps = std::sqrt(2.0 * target / curvature);
+    const double actual = CostWithPointsOptimised(p, move(v, eps));
+    EXPECT_NEAR(actual / (0.5 * eps * eps * curvature), 1.0, 2e-3) << "eigen direction " << j;
+  }
+  EXPECT_GE(informative, 11);
+  // Along the similarity generators the point-based cost does not rise at all (gauge); h
+  // without its prior predicts exactly that.
+  std::array<PoseBlock, 3> x0;
+  for (int k = 0; k < 3; ++k) x0[k] = PoseBlock::FromPose(lh.local_poses[k]);
+  const Eigen::Matrix<double, 18, 7> G = SimilarityGenerators(x0, 1.0);
+  for (int i = 0; i < 7; ++i) {
+    const Vector18d g = G.col(i).normalized();
+    const double eps = std::sqrt(2.0 * target / lambda_max);
+    EXPECT_LT(CostWithPointsOptimised(p, move(g, eps)), 1e-5 * target) << "generator " << i;
+    EXPECT_LT(g.dot(h0 * g), 1e-9 * lambda_max) << "generator " << i;
+  }
+}
+
+TEST(LocalHessian, DecompositionAndPriorAreConsistent) {
+  RingSceneOptions so;
+  so.num_points = 500;
+  const Reconstruction rec = MakeRingScene(so);
+  std::mt19937_64 rng(1);
+  const Triplet t = MakeTriplet(rec, {7, 8, 9}, rng);
+  const LocalHessian lh = ComputeLocalHessian(rec, t, 4, LocalHessianOptions());
+  ASSERT_EQ(lh.status, LocalHessianStatus::kOk);
+  EXPECT_EQ(lh.triplet_index, 4);
+  EXPECT_LT(RelativeDifference(lh.V.transpose() * lh.D.cwiseAbs2().asDiagonal() * lh.V, lh.h, lh.depth_scale), 1e-12);
+  EXPECT_LT((lh.V * lh.V.transpose() - Matrix18d::Identity()).norm(), 1e-12);
+  // The similarity generators span the null space of h without the prior (the gauge), and
+  // the default prior lives on them only: it leaves the informative directions untouched.
+  std::array<PoseBlock, 3> x0;
+  for (int k = 0; k < 3; ++k) x0[k] = PoseBlock::FromPose(lh.local_poses[k]);
+  const Eigen::Matrix<double, 18, 7> G = SimilarityGenerators(x0, 1.0);
+  const Matrix18d h0 = lh.h - lh.prior;
+  for (int i = 0; i < 7; ++i)
+    EXPECT_LT((h0 * G.col(i)).norm(), 1e-8 * h0.norm() * G.col(i).norm()) << "generator " << i;
+  // Once the similarity absorbs the gauge directions (as in the global BA), the prior adds
+  // nothing: h reduced over span(G) equals h without the prior.
+  auto reduce_gauge = [&](const Matrix18d& h) -> Matrix18d {
+    const Eigen::Matrix<double, 18, 7> hG = h * G;
+    return h - hG * (G.transpose() * hG).inverse() * hG.transpose();
+  };
+  EXPECT_LT((reduce_gauge(lh.h) - h0).norm(), 1e-9 * h0.norm());
+  // mu = 1e-3 of the largest eigenvalue in the scale-aware chart [c / L, omega].
+  Vector18d sc;
+  for (int k = 0; k < 3; ++k) sc.segment<6>(6 * k) << lh.depth_scale, lh.depth_scale, lh.depth_scale, 1, 1, 1;
+  const double lmax = Eigen::SelfAdjointEigenSolver<Matrix18d>(sc.asDiagonal() * h0 * sc.asDiagonal()).eigenvalues()(17);
+  EXPECT_NEAR(lh.prior_mu / lmax, 1e-3, 1e-12);
+  // The isotropic prior of the ARCHITECTURE lesson: mu / L^2 on centres, mu on rotations.
+  LocalHessianOptions iso;
+  iso.prior_shape = PriorShape::kIsotropic;
+  iso.prior_relative = 1e-6;
+  const LocalHessian li = ComputeLocalHessian(rec, t, 4, iso);
+  ASSERT_EQ(li.status, LocalHessianStatus::kOk);
+  EXPECT_NEAR(li.prior_mu / lmax, 1e-6, 1e-15);
+  EXPECT_NEAR(li.prior(0, 0) * li.depth_scale * li.depth_scale / li.prior_mu, 1.0, 1e-12);
+  EXPECT_NEAR(li.prior(3, 3) / li.prior_mu, 1.0, 1e-12);
+  EXPECT_EQ(li.prior.norm(), li.prior.diagonal().norm());
+  EXPECT_LT((li.h - li.prior - h0).norm(), 1e-12 * h0.norm());  // same h without the prior
+  // ... but the isotropic prior also weighs the informative directions (a small bias).
+  EXPECT_GT((reduce_gauge(li.h) - h0).norm(), 1e-9 * h0.norm());
+  // Q = inf: weight 1, h scales up by (M + Q) / Q.
+  LocalHessianOptions no_att;
+  no_att.attenuation_q = std::numeric_limits<double>::infinity();
+  const LocalHessian full = ComputeLocalHessian(rec, t, 4, no_att);
+  ASSERT_EQ(full.status, LocalHessianStatus::kOk);
+  EXPECT_EQ(full.observation_weight, 1.0);
+  EXPECT_NEAR(full.h(3, 3) / lh.h(3, 3), (lh.num_points + 10.0) / 10.0, 1e-3 * (lh.num_points + 10.0) / 10.0);
+  // One local BA iteration from the true poses on noisy data leaves a small reduced gradient
+  // (a converged x0); more iterations shrink it further.
+  LocalHessianOptions many;
+  many.max_iterations = 10;
+  const LocalHessian conv = ComputeLocalHessian(rec, t, 4, many);
+  EXPECT_LT(conv.reduced_gradient.norm(), lh.reduced_gradient.norm() + 1e-12);
+}
+
+TEST(LocalHessian, RejectsWithCountedReasons) {
+  RingSceneOptions so;
+  so.num_points = 400;
+  const Reconstruction rec = MakeRingScene(so);
+  std::mt19937_64 rng(2);
+  std::vector<Triplet> triplets;
+  triplets.push_back(MakeTriplet(rec, {1, 2, 3}, rng));  // ok
+  Triplet few = triplets[0];
+  few.track_ids.resize(20);  // < 30 points
+  triplets.push_back(few);
+  Triplet missing = triplets[0];
+  missing.image_ids[2] = 999;  // not in the model
+  triplets.push_back(missing);
+  Triplet nan_pose = triplets[0];
+  nan_pose.local_poses[1] = Pose::FromRC(Eigen::Matrix3d::Identity(), Eigen::Vector3d(NAN, 0, 0));
+  triplets.push_back(nan_pose);
+  Triplet dup = triplets[0];
+  dup.image_ids[1] = dup.image_ids[0];
+  triplets.push_back(dup);
+  LocalHessianOptions opt;
+  const LocalHessianResult r = ComputeLocalHessians(rec, triplets, opt);
+  ASSERT_EQ(r.hessians.size(), triplets.size());
+  EXPECT_EQ(r.hessians[0].status, LocalHessianStatus::kOk);
+  EXPECT_EQ(r.hessians[1].status, LocalHessianStatus::kTooFewPoints);
+  EXPECT_EQ(r.hessians[2].status, LocalHessianStatus::kInvalidInput);
+  EXPECT_EQ(r.hessians[3].status, LocalHessianStatus::kInvalidInput);
+  EXPECT_EQ(r.hessians[4].status, LocalHessianStatus::kInvalidInput);
+  EXPECT_EQ(r.num_ok(), 1);
+  EXPECT_EQ(r.status_counts[static_cast<int>(LocalHessianStatus::kInvalidInput)], 3);
+  // A demanding conditioning bar rejects as ill-conditioned.
+  opt.min_eigenvalue_ratio = 0.5;
+  EXPECT_EQ(ComputeLocalHessian(rec, triplets[0], 0, opt).status, LocalHessianStatus::kIllConditioned);
+}
+
+// A view that observes only two of the triplet's points cannot be resected: h has a null
+// space beyond the 7-dim similarity gauge and the triplet is rejected as ill-conditioned
+// rather than passed on with a meaningless h.
+TEST(LocalHessian, RejectsRankDeficientGeometry) {
+  RingSceneOptions so;
+  so.num_points = 600;
+  Reconstruction rec = MakeRingScene(so);
+  std::mt19937_64 rng(4);
+  const Triplet t = MakeTriplet(rec, {1, 2, 3}, rng);
+  ASSERT_GT(t.track_ids.size(), 40u);
+  for (size_t i = 2; i < t.track_ids.size(); ++i) {
+    auto& track = rec.points3D.at(t.track_ids[i]).track;
+    track.erase(std::remove_if(track.begin(), track.end(), [](const TrackElement& el) { return el.image_id == 3; }),
+                track.end());
+  }
+  const LocalHessian lh = ComputeLocalHessian(rec, t, 0, LocalHessianOptions());
+  EXPECT_EQ(lh.status, LocalHessianStatus::kIllConditioned) << LocalHessianStatusName(lh.status);
+  EXPECT_LT(lh.eigenvalue_ratio, 1e-10);
+}
+
+TEST(LocalHessian, ParallelResultIsDeterministic) {
+  RingSceneOptions so;
+  so.num_points = 800;
+  const Reconstruction rec = MakeRingScene(so);
+  std::mt19937_64 rng(8);
+  const std::vector<Triplet> triplets = testing::MakeRingTriplets(rec, 4, true, rng);
+  LocalHessianOptions opt;
+  const LocalHessianResult par = ComputeLocalHessians(rec, triplets, opt);
+  opt.num_threads = 1;
+  const LocalHessianResult seq = ComputeLocalHessians(rec, triplets, opt);
+  ASSERT_EQ(par.hessians.size(), triplets.size());
+  EXPECT_EQ(par.num_ok(), static_cast<int>(triplets.size()));
+  for (size_t i = 0; i < triplets.size(); ++i) {
+    EXPECT_EQ(par.hessians[i].h, seq.hessians[i].h);
+    EXPECT_EQ(par.hessians[i].triplet_index, static_cast<int>(i));
+  }
+}
+
+TEST(LocalHessian, OptionsRoundTripThroughJson) {
+  LocalHessianOptions o;
+  o.attenuation_q = 25;
+  o.prior_placement = PriorPlacement::kLocalBAAndHessian;
+  const nlohmann::json j = o;
+  const LocalHessianOptions back = j.get<LocalHessianOptions>();
+  EXPECT_EQ(back.attenuation_q, 25);
+  EXPECT_EQ(back.prior_placement, PriorPlacement::kLocalBAAndHessian);
+  EXPECT_EQ(nlohmann::json::parse(R"({"huber_px": 2})").get<LocalHessianOptions>().max_iterations, 1);
+}
+
+}  // namespace
+}  // namespace pgba
