@@ -26,6 +26,8 @@ int main(int argc, char** argv) {
   app.add_option("-v,--verbosity", verbosity, "0 quiet, 1 info (default), 2 debug");
   app::RegisterSynth(app);
   app::RegisterEvaluate(app);
+  app::RegisterFeatures(app);
+  app::RegisterMatch(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

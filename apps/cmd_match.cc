@@ -1,0 +1,4 @@
+#include "apps/commands.h"
+namespace pgba::app {
+void RegisterMatch(CLI::App& app) {}
+}  // namespace pgba::app
