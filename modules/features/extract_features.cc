@@ -147,6 +147,7 @@ FeatureExtractionResult ExtractFeatures(const std::string& images_dir, const Cal
     im.width = o.width;
     im.height = o.height;
     im.num_features = o.num_features;
+    im.detection_scale = DetectionScale(o.width, o.height, options.sift);
     result.index.images.push_back(im);
     if (o.cached) {
       ++result.num_cached;

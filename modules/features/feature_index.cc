@@ -30,7 +30,8 @@ void WriteFeatureIndex(const std::string& workspace, const FeatureIndex& index) 
                       {"camera_id", im.camera_id},
                       {"width", im.width},
                       {"height", im.height},
-                      {"num_features", im.num_features}});
+                      {"num_features", im.num_features},
+                      {"detection_scale", im.detection_scale}});
   WriteStringAtomically(fs::path(FeaturesDir(workspace)) / "images.json",
                         nlohmann::json{{"version", 1}, {"images", images}}.dump(1) + "\n");
 }
@@ -53,6 +54,7 @@ FeatureIndex ReadFeatureIndex(const std::string& workspace) {
       im.width = e.at("width").get<int>();
       im.height = e.at("height").get<int>();
       im.num_features = e.at("num_features").get<int>();
+      im.detection_scale = e.value("detection_scale", 1.0);
       if (!index.cameras.count(im.camera_id))
         ThrowInputError(json_path.string(), 0,
                         "image " + im.name + " uses unknown camera " + std::to_string(im.camera_id));

@@ -20,6 +20,9 @@ struct IndexedImage {
   int width = 0;
   int height = 0;
   int num_features = 0;
+  // Full-resolution pixels per pixel of the image SIFT ran on (>= 1 when downscaled):
+  // keypoint noise grows with it, so verification thresholds scale with it.
+  double detection_scale = 1.0;
 };
 
 struct FeatureIndex {

@@ -28,6 +28,12 @@ void QuantiseRow(const float* in, bool root_sift, uint8_t* out) {
 
 }  // namespace
 
+double DetectionScale(int width, int height, const SiftOptions& options) {
+  const int max_side = std::max(width, height);
+  if (options.max_image_size <= 0 || max_side <= options.max_image_size) return 1.0;
+  return static_cast<double>(max_side) / options.max_image_size;
+}
+
 FeatureSet ExtractSift(const cv::Mat& gray, const SiftOptions& options) {
   CV_Assert(gray.type() == CV_8UC1);
   FeatureSet out;
