@@ -1,5 +1,7 @@
 #include "pgba/geometry/pose.h"
 
+#include <cmath>
+
 namespace pgba {
 
 Pose Pose::FromRC(const Eigen::Matrix3d& R, const Eigen::Vector3d& C) {
@@ -11,7 +13,11 @@ Pose Pose::FromRC(const Eigen::Matrix3d& R, const Eigen::Vector3d& C) {
 
 Pose Pose::FromQt(const Eigen::Quaterniond& q, const Eigen::Vector3d& t) {
   Pose p;
-  p.q_ = q.normalized();
+  // Normalising is not idempotent in floating point: re-normalising a quaternion that is
+  // already unit to rounding changes its last bits, and a COLMAP model read and written
+  // back would differ. Such a quaternion is kept as is (its rotation matrix is orthonormal
+  // to ~1e-15); anything further from unit length is normalised.
+  p.q_ = std::abs(q.squaredNorm() - 1.0) <= 1e-14 ? q : q.normalized();
   p.t_ = t;
   return p;
 }

@@ -14,7 +14,8 @@ class Pose {
   Pose() : q_(Eigen::Quaterniond::Identity()), t_(Eigen::Vector3d::Zero()) {}
 
   static Pose FromRC(const Eigen::Matrix3d& R, const Eigen::Vector3d& C);
-  // q is normalised.
+  // q is normalised (a quaternion already unit to rounding, |q|^2 - 1 <= 1e-14, is kept bit
+  // for bit so that text models round-trip exactly).
   static Pose FromQt(const Eigen::Quaterniond& q, const Eigen::Vector3d& t);
 
   Eigen::Matrix3d R() const { return q_.toRotationMatrix(); }

@@ -3,7 +3,9 @@
 #include <ceres/jet.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "pgba/geometry/rotation.h"
 
@@ -29,7 +31,10 @@ bool TriangulateLinear(const std::vector<Pose>& poses, const std::vector<Eigen::
 
 namespace {
 
+constexpr double kBehind = 1e30;  // residual reported for a view that sees the point behind it
+
 // Pixel residual of view v at X and its 2x3 Jacobian (autodiff through the camera model).
+// False if X is not in front of the camera.
 bool Residual(const TrackView& v, const Eigen::Vector3d& X, Eigen::Vector2d* r, Eigen::Matrix<double, 2, 3>* J) {
   using Jet = ceres::Jet<double, 3>;
   const Eigen::Vector3d xc = v.pose.ToCamera(X);
@@ -46,46 +51,68 @@ bool Residual(const TrackView& v, const Eigen::Vector3d& X, Eigen::Vector2d* r, 
     (*r)(k) = px[k].a - v.pixel(k);
     J->row(k) = px[k].v.transpose();
   }
-  return r->allFinite();
+  return r->allFinite() && J->allFinite();
 }
 
-// Huber-IRLS Gauss-Newton; returns false if a view ends behind its camera.
-bool RefineGaussNewton(const std::vector<TrackView>& views, const TriangulationOptions& opt, Eigen::Vector3d* X) {
+// Reprojection error of every view (kBehind for views that see X behind them).
+std::vector<double> Residuals(const std::vector<TrackView>& views, const Eigen::Vector3d& X) {
+  std::vector<double> res(views.size());
+  for (size_t i = 0; i < views.size(); ++i) {
+    const Eigen::Vector3d xc = views[i].pose.ToCamera(X);
+    res[i] = xc.z() > 0 ? (views[i].camera->Project(xc) - views[i].pixel).norm() : kBehind;
+    if (!std::isfinite(res[i])) res[i] = kBehind;
+  }
+  return res;
+}
+
+double Huber(double e, double k) { return e <= k ? e * e : 2.0 * k * e - k * k; }
+
+// Huber cost over the views in `use`; infinite if one of them sees X behind it.
+double HuberCost(const std::vector<TrackView>& views, const std::vector<size_t>& use, const Eigen::Vector3d& X,
+                 double k) {
+  double cost = 0.0;
+  for (size_t i : use) {
+    Eigen::Vector2d r;
+    Eigen::Matrix<double, 2, 3> J;
+    if (!Residual(views[i], X, &r, &J)) return std::numeric_limits<double>::infinity();
+    cost += Huber(r.norm(), k);
+  }
+  return cost;
+}
+
+// Huber-IRLS Gauss-Newton over the views in `use`, with step halving so that the cost never
+// increases and no used view ends behind its camera. False if X starts behind a used view.
+bool RefineGaussNewton(const std::vector<TrackView>& views, const std::vector<size_t>& use,
+                       const TriangulationOptions& opt, Eigen::Vector3d* X) {
+  double cost = HuberCost(views, use, *X, opt.huber_px);
+  if (!std::isfinite(cost)) return false;
   for (int it = 0; it < opt.max_iterations; ++it) {
     Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
     Eigen::Vector3d g = Eigen::Vector3d::Zero();
-    for (const auto& v : views) {
+    for (size_t i : use) {
       Eigen::Vector2d r;
       Eigen::Matrix<double, 2, 3> J;
-      if (!Residual(v, *X, &r, &J)) return false;
+      Residual(views[i], *X, &r, &J);
       const double e = r.norm();
       const double w = e <= opt.huber_px ? 1.0 : opt.huber_px / e;
       H += w * J.transpose() * J;
       g += w * J.transpose() * r;
     }
-    const Eigen::Vector3d dx = H.ldlt().solve(-g);
-    if (!dx.allFinite()) return false;
-    *X += dx;
-    if (dx.norm() < 1e-10 * (1.0 + X->norm())) break;
+    Eigen::Vector3d dx = H.ldlt().solve(-g);
+    if (!dx.allFinite()) break;
+    bool improved = false;
+    for (int halving = 0; halving < 20 && !improved; ++halving, dx *= 0.5) {
+      const Eigen::Vector3d Y = *X + dx;
+      const double c = HuberCost(views, use, Y, opt.huber_px);
+      if (c <= cost) {
+        improved = true;
+        *X = Y;
+        cost = c;
+      }
+    }
+    if (!improved || dx.norm() < 1e-12 * (1.0 + X->norm())) break;
   }
   return true;
-}
-
-std::vector<double> Residuals(const std::vector<TrackView>& views, const Eigen::Vector3d& X, bool* in_front) {
-  std::vector<double> res(views.size());
-  *in_front = true;
-  for (size_t i = 0; i < views.size(); ++i) {
-    const Eigen::Vector3d xc = views[i].pose.ToCamera(X);
-    if (!(xc.z() > 0)) *in_front = false;
-    res[i] = xc.z() > 0 ? (views[i].camera->Project(xc) - views[i].pixel).norm() : 1e30;
-  }
-  return res;
-}
-
-size_t CountInliers(const std::vector<double>& res, double thr) {
-  size_t n = 0;
-  for (double r : res) n += r < thr;
-  return n;
 }
 
 bool LinearFrom(const std::vector<TrackView>& views, const std::vector<size_t>& idx, Eigen::Vector3d* X) {
@@ -96,6 +123,67 @@ bool LinearFrom(const std::vector<TrackView>& views, const std::vector<size_t>& 
     bearings.push_back(views[i].camera->PixelToBearing(views[i].pixel));
   }
   return TriangulateLinear(poses, bearings, X);
+}
+
+std::vector<size_t> Below(const std::vector<double>& res, double thr) {
+  std::vector<size_t> idx;
+  for (size_t i = 0; i < res.size(); ++i)
+    if (res[i] < thr) idx.push_back(i);
+  return idx;
+}
+
+// A solution and how well the views support it: more inliers first, then the smaller
+// truncated cost sum min(r, outlier_px)^2 (outliers count as a constant).
+struct Candidate {
+  bool ok = false;
+  Eigen::Vector3d X = Eigen::Vector3d::Zero();
+  std::vector<double> res;
+  size_t inliers = 0;
+  double cost = std::numeric_limits<double>::infinity();
+};
+
+Candidate Score(const std::vector<TrackView>& views, const Eigen::Vector3d& X, double outlier_px) {
+  Candidate c;
+  c.X = X;
+  c.res = Residuals(views, X);
+  c.cost = 0.0;
+  for (double r : c.res) {
+    c.inliers += r < outlier_px;
+    c.cost += std::min(r, outlier_px) * std::min(r, outlier_px);
+  }
+  c.ok = Below(c.res, kBehind).size() >= 2;
+  return c;
+}
+
+bool Better(const Candidate& a, const Candidate& b) {
+  if (a.ok != b.ok) return a.ok;
+  if (a.inliers != b.inliers) return a.inliers > b.inliers;
+  return a.cost < b.cost;
+}
+
+// Robust refinement from a starting point: Huber Gauss-Newton on the views that agree with
+// the start (r < outlier_px), then again on the inliers of the result until the inlier set
+// is stable, so that an outlier does not bias the point (Huber alone still pulls it by
+// ~huber_px / #inliers). Where fewer than two views agree (e.g. poor initial poses), all
+// views in front are used with the Huber loss: the caller still gets the best point those
+// poses allow.
+Candidate RobustRefine(const std::vector<TrackView>& views, const Eigen::Vector3d& start,
+                       const TriangulationOptions& opt) {
+  const std::vector<double> res0 = Residuals(views, start);
+  std::vector<size_t> used = Below(res0, opt.outlier_px);
+  if (used.size() < 2) used = Below(res0, kBehind);
+  Eigen::Vector3d X = start;
+  if (used.size() < 2 || !RefineGaussNewton(views, used, opt, &X)) return Candidate();
+  Candidate best = Score(views, X, opt.outlier_px);
+  for (int round = 0; round < 10; ++round) {
+    const std::vector<size_t> inl = Below(best.res, opt.outlier_px);
+    if (inl.size() < 2 || inl == used) break;
+    Eigen::Vector3d Y = best.X;
+    if (!RefineGaussNewton(views, inl, opt, &Y)) break;
+    used = inl;
+    best = Score(views, Y, opt.outlier_px);
+  }
+  return best;
 }
 
 }  // namespace
@@ -119,45 +207,40 @@ TriangulatedPoint TriangulateTrack(const std::vector<TrackView>& views, const Tr
   std::vector<size_t> all(n);
   for (size_t i = 0; i < n; ++i) all[i] = i;
 
+  Candidate best;
   Eigen::Vector3d X;
-  bool in_front = false;
-  std::vector<double> res;
-  bool have = LinearFrom(views, all, &X) && RefineGaussNewton(views, opt, &X);
-  if (have) res = Residuals(views, X, &in_front);
-  // Consensus restart: an outlier observation pulls the linear solution; try every pair
-  // (tracks are short) and keep the one with most inliers, then refine on all views.
-  if (n >= 3 && (!have || !in_front || CountInliers(res, opt.outlier_px) < n)) {
-    size_t best_inl = have && in_front ? CountInliers(res, opt.outlier_px) : 0;
-    Eigen::Vector3d best_X = X;
-    for (size_t i = 0; i < n && n <= 64; ++i) {
-      for (size_t j = i + 1; j < n; ++j) {
+  if (LinearFrom(views, all, &X)) best = RobustRefine(views, X, opt);
+  // Consensus restart: an outlier observation pulls the linear solution (or puts it behind
+  // a camera); start again from the two-view solution that most views agree with. Tracks
+  // are short; for long ones the pairs are drawn from 64 evenly spread views.
+  if (n >= 3 && (!best.ok || best.inliers < n)) {
+    std::vector<size_t> pick;
+    const size_t m = std::min<size_t>(n, 64);
+    for (size_t k = 0; k < m; ++k) pick.push_back(k * n / m);
+    Candidate start;
+    for (size_t a = 0; a < m; ++a) {
+      for (size_t b = a + 1; b < m; ++b) {
         Eigen::Vector3d Y;
-        if (!LinearFrom(views, {i, j}, &Y)) continue;
-        bool front;
-        const std::vector<double> r = Residuals(views, Y, &front);
-        const size_t inl = CountInliers(r, opt.outlier_px);
-        if (inl > best_inl) {
-          best_inl = inl;
-          best_X = Y;
-        }
+        if (!LinearFrom(views, {pick[a], pick[b]}, &Y)) continue;
+        const Candidate c = Score(views, Y, opt.outlier_px);
+        if (Better(c, start)) start = c;
       }
     }
-    if (best_inl >= 2) {
-      X = best_X;
-      have = RefineGaussNewton(views, opt, &X);
-      if (have) res = Residuals(views, X, &in_front);
+    if (start.ok) {
+      const Candidate c = RobustRefine(views, start.X, opt);
+      if (Better(c, best)) best = c;
     }
   }
-  if (!have) return out;
-  // Every inlier view must see the point in front; outlier views may be behind.
-  for (size_t i = 0; i < n; ++i)
-    if (res[i] < opt.outlier_px && !(views[i].pose.ToCamera(X).z() > 0)) return out;
-  if (CountInliers(res, 1e29) < 2) return out;
-  out.max_angle_deg = MaxTriangulationAngleDeg(views, X);
+  if (!best.ok) return out;
+  // The angle that makes depth observable is the one between views that support the point.
+  std::vector<TrackView> support;
+  const std::vector<size_t> inl = Below(best.res, opt.outlier_px);
+  for (size_t i : (inl.size() >= 2 ? inl : Below(best.res, kBehind))) support.push_back(views[i]);
+  out.max_angle_deg = MaxTriangulationAngleDeg(support, best.X);
   if (out.max_angle_deg < opt.min_angle_deg) return out;
   out.ok = true;
-  out.X = X;
-  out.residuals_px = std::move(res);
+  out.X = best.X;
+  out.residuals_px = std::move(best.res);
   return out;
 }
 

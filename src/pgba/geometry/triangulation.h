@@ -1,6 +1,7 @@
 // Multi-view triangulation of one track with known poses: linear (DLT on unit bearings),
-// then robust Gauss-Newton on pixel reprojection errors (Huber IRLS), with a pairwise
-// consensus restart when the linear solution is pulled by an outlier observation.
+// then robust Gauss-Newton on pixel reprojection errors (Huber IRLS, final pass on the
+// inlier views only), with a pairwise consensus restart when the linear solution is pulled
+// by an outlier observation.
 #pragma once
 
 #include <Eigen/Core>
@@ -20,10 +21,12 @@ struct TrackView {
 struct TriangulationOptions {
   // Huber threshold of the Gauss-Newton refinement, pixels.
   double huber_px = 1.0;
-  // Observations above this are outliers for the consensus restart, pixels.
+  // Observations above this are outliers, pixels: they choose the consensus restart and are
+  // left out of the final refinement and of the angle test.
   double outlier_px = 4.0;
-  // Gauss-Newton iterations.
-  int max_iterations = 10;
+  // Gauss-Newton iterations per refinement (Huber IRLS converges linearly; most tracks stop
+  // early on the step-size test, 30 lets the slow ones converge to ~1e-5 px).
+  int max_iterations = 30;
   // Minimum triangulation angle (degrees) between the two most separated rays; below it the
   // depth is unobservable and the track is rejected.
   double min_angle_deg = 0.0;
@@ -41,8 +44,12 @@ struct TriangulatedPoint {
 bool TriangulateLinear(const std::vector<Pose>& poses, const std::vector<Eigen::Vector3d>& bearings,
                        Eigen::Vector3d* X);
 
-// Full robust triangulation. ok = false when fewer than 2 views, the point is behind a
-// camera, or the angle is below options.min_angle_deg.
+// Full robust triangulation. ok = false when fewer than 2 views, the linear problem is
+// degenerate (parallel rays), fewer than 2 cameras see the point in front of them, or the
+// angle between supporting rays is below options.min_angle_deg. Views that see the point
+// behind them get residual 1e30 (they are outliers, not a reason to reject the track).
+// When fewer than 2 views are within outlier_px (e.g. poor poses), the point is the Huber
+// estimate over all views in front, so errors of bad poses are still measurable.
 TriangulatedPoint TriangulateTrack(const std::vector<TrackView>& views, const TriangulationOptions& options = {});
 
 // Largest angle (degrees) between the viewing rays from the centres to X.

@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <set>
+#include <system_error>
 
 #include "pgba/util/atomic_file.h"
 #include "pgba/util/error.h"
@@ -32,20 +32,22 @@ Image ParseImageHeader(const TextReader& r, const std::vector<std::string>& tok,
   r.RequireTokens(tok, 10, "image line (IMAGE_ID QW QX QY QZ TX TY TZ CAMERA_ID NAME)");
   Image im;
   im.image_id = ToId32(r, tok[0], "IMAGE_ID");
+  if (rec.images.count(im.image_id)) r.Fail("duplicate IMAGE_ID " + tok[0]);
   const Eigen::Quaterniond q(r.ToDouble(tok[1], "QW"), r.ToDouble(tok[2], "QX"), r.ToDouble(tok[3], "QY"),
                              r.ToDouble(tok[4], "QZ"));
-  if (std::abs(q.norm() - 1.0) > 1e-3) r.Fail("quaternion is not unit length");
+  if (std::abs(q.norm() - 1.0) > 1e-3) r.Fail("quaternion is not unit length (norm " + Num(q.norm()) + ")");
   const Eigen::Vector3d t(r.ToDouble(tok[5], "TX"), r.ToDouble(tok[6], "TY"), r.ToDouble(tok[7], "TZ"));
   im.pose = Pose::FromQt(q, t);
   im.camera_id = ToId32(r, tok[8], "CAMERA_ID");
   if (!rec.cameras.count(im.camera_id)) r.Fail("CAMERA_ID " + tok[8] + " is not in cameras.txt");
-  im.name = tok[9];  // names may contain spaces
-  for (size_t k = 10; k < tok.size(); ++k) im.name += " " + tok[k];
-  if (rec.images.count(im.image_id)) r.Fail("duplicate IMAGE_ID " + tok[0]);
+  // Names may contain spaces: the rest of the raw line, byte for byte.
+  im.name = r.RestOfLine(9);
   return im;
 }
 
-void ReadImages(const std::string& path, Reconstruction* rec) {
+// Reads images.txt; `points2D_line[image_id]` receives the line of each POINTS2D list so
+// that references to points3D.txt can be reported where they are written.
+void ReadImages(const std::string& path, Reconstruction* rec, std::map<uint32_t, int>* points2D_line) {
   TextReader r(path);
   std::vector<std::string> tok, pts;
   while (r.NextLine(&tok)) {
@@ -53,6 +55,7 @@ void ReadImages(const std::string& path, Reconstruction* rec) {
     // The POINTS2D line always follows the header and may be empty (no observations);
     // end of file right after the header is read as an empty line too.
     r.NextRawLine(&pts);
+    (*points2D_line)[im.image_id] = r.line_number();
     if (pts.size() % 3 != 0) r.Fail("POINTS2D line must hold triples X Y POINT3D_ID");
     im.points2D.resize(pts.size() / 3);
     for (size_t k = 0; k < im.points2D.size(); ++k) {
@@ -62,6 +65,47 @@ void ReadImages(const std::string& path, Reconstruction* rec) {
       im.points2D[k].point3D_id = pid;
     }
     rec->images[im.image_id] = std::move(im);
+  }
+}
+
+// Reads points3D.txt. Every track element must resolve to an observation of images.txt that
+// is linked back to this point; `listed` marks the observations some track lists.
+void ReadPoints(const std::string& path, Reconstruction* rec, std::map<uint32_t, std::vector<bool>>* listed) {
+  for (const auto& [id, im] : rec->images) (*listed)[id].assign(im.points2D.size(), false);
+  TextReader r(path);
+  std::vector<std::string> tok;
+  while (r.NextLine(&tok)) {
+    r.RequireTokens(tok, 8, "point line (POINT3D_ID X Y Z R G B ERROR TRACK[])");
+    Point3D p;
+    const int64_t pid = r.ToInt(tok[0], "POINT3D_ID");
+    if (pid < 0) r.Fail("negative POINT3D_ID");
+    p.point3D_id = static_cast<uint64_t>(pid);
+    if (rec->points3D.count(p.point3D_id)) r.Fail("duplicate POINT3D_ID " + tok[0]);
+    p.xyz = Eigen::Vector3d(r.ToDouble(tok[1], "X"), r.ToDouble(tok[2], "Y"), r.ToDouble(tok[3], "Z"));
+    for (int c = 0; c < 3; ++c) {
+      const int64_t v = r.ToInt(tok[4 + c], "color");
+      if (v < 0 || v > 255) r.Fail("color out of range 0..255");
+      p.color(c) = static_cast<uint8_t>(v);
+    }
+    p.error = r.ToDouble(tok[7], "ERROR");
+    if ((tok.size() - 8) % 2 != 0) r.Fail("TRACK must hold pairs IMAGE_ID POINT2D_IDX");
+    for (size_t k = 8; k + 1 < tok.size(); k += 2) {
+      TrackElement e;
+      e.image_id = ToId32(r, tok[k], "IMAGE_ID");
+      e.point2D_idx = ToId32(r, tok[k + 1], "POINT2D_IDX");
+      auto im = rec->images.find(e.image_id);
+      if (im == rec->images.end()) r.Fail("track refers to IMAGE_ID " + tok[k] + " not in images.txt");
+      if (e.point2D_idx >= im->second.points2D.size())
+        r.Fail("track refers to POINT2D_IDX " + tok[k + 1] + " beyond the " +
+               std::to_string(im->second.points2D.size()) + " observations of image " + tok[k]);
+      if (im->second.points2D[e.point2D_idx].point3D_id != pid)
+        r.Fail("track element (" + tok[k] + ", " + tok[k + 1] + ") is not linked to this point in images.txt");
+      auto flag = (*listed)[e.image_id].begin() + e.point2D_idx;
+      if (*flag) r.Fail("track lists element (" + tok[k] + ", " + tok[k + 1] + ") twice");
+      *flag = true;
+      p.track.push_back(e);
+    }
+    rec->points3D[p.point3D_id] = std::move(p);
   }
 }
 
@@ -75,7 +119,10 @@ std::map<uint32_t, Camera> ReadColmapCameras(const std::string& path) {
     r.RequireTokens(tok, 4, "camera line (CAMERA_ID MODEL WIDTH HEIGHT PARAMS[])");
     Camera c;
     c.camera_id = ToId32(r, tok[0], "CAMERA_ID");
-    if (!ParseCameraModel(tok[1], &c.model)) r.Fail("unknown or unsupported camera model '" + tok[1] + "'");
+    if (cams.count(c.camera_id)) r.Fail("duplicate CAMERA_ID " + tok[0]);
+    if (!ParseCameraModel(tok[1], &c.model))
+      r.Fail("unknown or unsupported camera model '" + TextReader::Printable(tok[1]) +
+             "' (supported: SIMPLE_PINHOLE PINHOLE SIMPLE_RADIAL RADIAL OPENCV)");
     const int64_t w = r.ToInt(tok[2], "WIDTH"), h = r.ToInt(tok[3], "HEIGHT");
     if (w <= 0 || h <= 0 || w > 1000000 || h > 1000000) r.Fail("image size out of range");
     c.width = static_cast<int>(w);
@@ -83,56 +130,43 @@ std::map<uint32_t, Camera> ReadColmapCameras(const std::string& path) {
     for (size_t k = 4; k < tok.size(); ++k) c.params.push_back(r.ToDouble(tok[k], "camera parameter"));
     const std::string problem = c.Validate();
     if (!problem.empty()) r.Fail(problem);
-    if (cams.count(c.camera_id)) r.Fail("duplicate CAMERA_ID " + tok[0]);
     cams[c.camera_id] = std::move(c);
   }
   return cams;
 }
 
 Reconstruction ReadColmapText(const std::string& dir, bool points_optional) {
-  if (!fs::is_directory(dir)) ThrowInputError(dir, 0, "model directory not found");
+  std::error_code ec;
+  if (!fs::exists(dir, ec)) ThrowInputError(dir, 0, "model directory not found");
+  if (!fs::is_directory(dir, ec)) ThrowInputError(dir, 0, "is not a directory (expected a COLMAP text model)");
   Reconstruction rec;
   rec.cameras = ReadColmapCameras((fs::path(dir) / "cameras.txt").string());
   const std::string images_path = (fs::path(dir) / "images.txt").string();
-  ReadImages(images_path, &rec);
+  std::map<uint32_t, int> points2D_line;
+  ReadImages(images_path, &rec, &points2D_line);
   const std::string points_path = (fs::path(dir) / "points3D.txt").string();
-  if (points_optional && !fs::exists(points_path)) {
+  if (points_optional && fs::status(points_path, ec).type() == fs::file_type::not_found) {
     for (auto& [id, im] : rec.images)
       for (auto& p : im.points2D) p.point3D_id = kNoPoint3D;
     return rec;
   }
-  TextReader r(points_path);
-  std::vector<std::string> tok;
-  while (r.NextLine(&tok)) {
-    r.RequireTokens(tok, 8, "point line (POINT3D_ID X Y Z R G B ERROR TRACK[])");
-    Point3D p;
-    const int64_t pid = r.ToInt(tok[0], "POINT3D_ID");
-    if (pid < 0) r.Fail("negative POINT3D_ID");
-    p.point3D_id = static_cast<uint64_t>(pid);
-    p.xyz = Eigen::Vector3d(r.ToDouble(tok[1], "X"), r.ToDouble(tok[2], "Y"), r.ToDouble(tok[3], "Z"));
-    for (int c = 0; c < 3; ++c) {
-      const int64_t v = r.ToInt(tok[4 + c], "color");
-      if (v < 0 || v > 255) r.Fail("color out of range 0..255");
-      p.color(c) = static_cast<uint8_t>(v);
+  std::map<uint32_t, std::vector<bool>> listed;
+  ReadPoints(points_path, &rec, &listed);
+  // The other direction: every observation linked to a point must be in that point's track.
+  for (const auto& [id, im] : rec.images) {
+    for (size_t k = 0; k < im.points2D.size(); ++k) {
+      const int64_t pid = im.points2D[k].point3D_id;
+      if (pid == kNoPoint3D || listed[id][k]) continue;
+      const std::string what = "observation " + std::to_string(k) + " of IMAGE_ID " + std::to_string(id);
+      if (!rec.points3D.count(static_cast<uint64_t>(pid)))
+        ThrowInputError(images_path, points2D_line[id],
+                        what + " refers to POINT3D_ID " + std::to_string(pid) + " not in points3D.txt");
+      ThrowInputError(images_path, points2D_line[id],
+                      what + " is linked to POINT3D_ID " + std::to_string(pid) +
+                          " but that point's track in points3D.txt does not list it");
     }
-    p.error = r.ToDouble(tok[7], "ERROR");
-    if ((tok.size() - 8) % 2 != 0) r.Fail("TRACK must hold pairs IMAGE_ID POINT2D_IDX");
-    for (size_t k = 8; k + 1 < tok.size(); k += 2) {
-      TrackElement e;
-      e.image_id = ToId32(r, tok[k], "IMAGE_ID");
-      e.point2D_idx = ToId32(r, tok[k + 1], "POINT2D_IDX");
-      auto im = rec.images.find(e.image_id);
-      if (im == rec.images.end()) r.Fail("track refers to IMAGE_ID " + tok[k] + " not in images.txt");
-      if (e.point2D_idx >= im->second.points2D.size())
-        r.Fail("track refers to POINT2D_IDX " + tok[k + 1] + " beyond the observations of image " + tok[k]);
-      if (im->second.points2D[e.point2D_idx].point3D_id != pid)
-        r.Fail("track element (" + tok[k] + ", " + tok[k + 1] + ") is not linked to this point in images.txt");
-      p.track.push_back(e);
-    }
-    if (rec.points3D.count(p.point3D_id)) r.Fail("duplicate POINT3D_ID " + tok[0]);
-    rec.points3D[p.point3D_id] = std::move(p);
   }
-  const std::string problem = rec.CheckConsistency();
+  const std::string problem = rec.CheckConsistency();  // safety net: all checked above
   if (!problem.empty()) ThrowInputError(dir, 0, "inconsistent model: " + problem);
   return rec;
 }

@@ -84,6 +84,8 @@ void DistortNormalized(CameraModel model, const double* p, const T& u, const T& 
       return;
     }
   }
+  *ud = u;  // not reached for valid models; keeps the outputs defined
+  *vd = v;
 }
 
 template <typename T>
@@ -105,6 +107,8 @@ void ProjectToPixel(CameraModel model, const double* p, const T* x_cam, T* pixel
       pixel[1] = T(p[1]) * vd + T(p[3]);
       return;
   }
+  pixel[0] = ud;  // not reached for valid models; keeps the outputs defined
+  pixel[1] = vd;
 }
 
 }  // namespace pgba

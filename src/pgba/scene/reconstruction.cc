@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <set>
+#include <stdexcept>
+#include <utility>
 
 namespace pgba {
 
@@ -18,8 +20,20 @@ size_t Reconstruction::NumObservations() const {
 }
 
 uint64_t Reconstruction::AddPoint3D(const Eigen::Vector3d& xyz, std::vector<TrackElement> track) {
+  // Check every element before linking any, so that a bad track leaves the scene untouched.
+  std::set<std::pair<uint32_t, uint32_t>> seen;
+  for (const auto& el : track) {
+    const Point2D& obs = images.at(el.image_id).points2D.at(el.point2D_idx);
+    if (obs.point3D_id != kNoPoint3D)
+      throw std::invalid_argument("AddPoint3D: observation " + std::to_string(el.point2D_idx) + " of image " +
+                                  std::to_string(el.image_id) + " already belongs to point " +
+                                  std::to_string(obs.point3D_id));
+    if (!seen.insert({el.image_id, el.point2D_idx}).second)
+      throw std::invalid_argument("AddPoint3D: track lists observation " + std::to_string(el.point2D_idx) +
+                                  " of image " + std::to_string(el.image_id) + " twice");
+  }
   const uint64_t id = points3D.empty() ? 1 : points3D.rbegin()->first + 1;
-  for (const auto& el : track) images.at(el.image_id).points2D.at(el.point2D_idx).point3D_id = id;
+  for (const auto& el : track) images.at(el.image_id).points2D[el.point2D_idx].point3D_id = static_cast<int64_t>(id);
   Point3D& p = points3D[id];
   p.point3D_id = id;
   p.xyz = xyz;
@@ -53,7 +67,12 @@ void Reconstruction::KeepImages(const std::vector<uint32_t>& image_ids) {
 }
 
 std::string Reconstruction::CheckConsistency() const {
+  for (const auto& [id, camera] : cameras)
+    if (camera.camera_id != id)
+      return "camera key " + std::to_string(id) + " holds camera_id " + std::to_string(camera.camera_id);
   for (const auto& [id, image] : images) {
+    if (image.image_id != id)
+      return "image key " + std::to_string(id) + " holds image_id " + std::to_string(image.image_id);
     if (!cameras.count(image.camera_id))
       return "image " + std::to_string(id) + " refers to missing camera " + std::to_string(image.camera_id);
     for (size_t k = 0; k < image.points2D.size(); ++k) {
@@ -72,6 +91,15 @@ std::string Reconstruction::CheckConsistency() const {
     }
   }
   for (const auto& [pid, p] : points3D) {
+    if (p.point3D_id != pid)
+      return "point key " + std::to_string(pid) + " holds point3D_id " + std::to_string(p.point3D_id);
+    std::vector<std::pair<uint32_t, uint32_t>> elements;
+    for (const auto& e : p.track) elements.emplace_back(e.image_id, e.point2D_idx);
+    std::sort(elements.begin(), elements.end());
+    const auto dup = std::adjacent_find(elements.begin(), elements.end());
+    if (dup != elements.end())
+      return "point " + std::to_string(pid) + " lists image " + std::to_string(dup->first) + " observation " +
+             std::to_string(dup->second) + " twice";
     for (const auto& e : p.track) {
       auto im = images.find(e.image_id);
       if (im == images.end())

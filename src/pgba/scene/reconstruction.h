@@ -58,7 +58,9 @@ class Reconstruction {
   size_t NumObservations() const;
 
   // Adds a point with the given track, linking each observation's point3D_id back to it.
-  // Returns the new id (max id + 1).
+  // Returns the new id (max id + 1). Throws (leaving the scene unchanged) std::out_of_range
+  // if an element names a missing image or observation, std::invalid_argument if an
+  // observation already belongs to a point or is listed twice.
   uint64_t AddPoint3D(const Eigen::Vector3d& xyz, std::vector<TrackElement> track);
   // Removes a point and unlinks its observations.
   void DeletePoint3D(uint64_t point3D_id);
@@ -66,8 +68,9 @@ class Reconstruction {
   // than 2 observations are removed.
   void KeepImages(const std::vector<uint32_t>& image_ids);
 
-  // Empty if every reference resolves (image -> camera, track -> image/point2D and back);
-  // otherwise the first inconsistency found.
+  // Empty if every reference resolves (image -> camera, track -> image/point2D and back, no
+  // element listed twice, map keys equal to the stored ids); otherwise the first
+  // inconsistency found.
   std::string CheckConsistency() const;
 };
 

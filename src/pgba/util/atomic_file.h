@@ -1,8 +1,10 @@
 // Atomic outputs: nothing half-written is ever left under a final name.
 //
-// Files are written to "<path>.tmp.<pid>" and renamed over <path> (rename(2) is atomic
+// Files are written to "<path>.tmp.<pid>.<n>" and renamed over <path> (rename(2) is atomic
 // on one file system). Directories of several files (a COLMAP model) are written into
-// "<dir>.tmp.<pid>/" and swapped in as a whole by CommitDirectory.
+// "<dir>.tmp.<pid>.<n>/" and swapped in as a whole by StagedDirectory::Commit.
+// A path that cannot be written (parent is a file, no permission, path is a directory) is
+// an InputError naming it: the user chose that output path.
 #pragma once
 
 #include <filesystem>
@@ -13,7 +15,9 @@
 namespace pgba {
 
 // Writes `path` atomically: `writer` fills the stream; on exception or stream failure the
-// temporary is removed and InputError/runtime_error propagates.
+// temporary is removed, the previous content of `path` (if any) is left untouched, and the
+// exception propagates (the writer's own, InputError for an unwritable path,
+// std::runtime_error for a failed write).
 void WriteFileAtomically(const std::filesystem::path& path,
                          const std::function<void(std::ostream&)>& writer);
 
@@ -21,7 +25,9 @@ void WriteFileAtomically(const std::filesystem::path& path,
 void WriteStringAtomically(const std::filesystem::path& path, const std::string& content);
 
 // A staging directory that becomes `final_dir` only when Commit() is called. If the object
-// is destroyed without Commit() (an exception), the staging directory is removed.
+// is destroyed without Commit() (an exception), the staging directory is removed and
+// `final_dir` keeps its previous content. InputError if `final_dir` is an existing file or
+// cannot be created.
 class StagedDirectory {
  public:
   explicit StagedDirectory(std::filesystem::path final_dir);

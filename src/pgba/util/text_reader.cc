@@ -2,6 +2,7 @@
 
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 
@@ -10,9 +11,15 @@
 namespace pgba {
 
 TextReader::TextReader(const std::string& path) : path_(path) {
-  if (!std::filesystem::exists(path)) ThrowInputError(path, 0, "file not found");
-  if (std::filesystem::is_directory(path)) ThrowInputError(path, 0, "is a directory, expected a file");
-  in_.open(path);
+  // error_code overloads: a path we may not even stat (permissions) is an input error too,
+  // not a filesystem_error escaping to the caller.
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (status.type() == std::filesystem::file_type::not_found) ThrowInputError(path, 0, "file not found");
+  if (ec) ThrowInputError(path, 0, "cannot access file: " + ec.message());
+  if (status.type() == std::filesystem::file_type::directory)
+    ThrowInputError(path, 0, "is a directory, expected a file");
+  in_.open(path, std::ios::binary);
   if (!in_) ThrowInputError(path, 0, "cannot open file for reading");
 }
 
@@ -39,6 +46,7 @@ bool TextReader::NextRawLine(std::vector<std::string>* tokens) {
     return false;
   }
   ++line_number_;
+  if (!raw_.empty() && raw_.back() == '\r') raw_.pop_back();
   std::istringstream ss(raw_);
   std::string tok;
   while (ss >> tok) tokens->push_back(tok);
@@ -47,13 +55,27 @@ bool TextReader::NextRawLine(std::vector<std::string>* tokens) {
 
 void TextReader::Fail(const std::string& problem) const { ThrowInputError(path_, line_number_, problem); }
 
+std::string TextReader::RestOfLine(size_t first_token) const {
+  size_t pos = 0;
+  for (size_t k = 0;; ++k) {
+    pos = raw_.find_first_not_of(kSpace, pos);
+    if (pos == std::string::npos || k == first_token) break;
+    pos = raw_.find_first_of(kSpace, pos);
+  }
+  if (pos == std::string::npos) return "";
+  const size_t last = raw_.find_last_not_of(kSpace);
+  return raw_.substr(pos, last + 1 - pos);
+}
+
 double TextReader::ToDouble(const std::string& token, const char* what) const {
-  errno = 0;
   char* end = nullptr;
   const double v = std::strtod(token.c_str(), &end);
-  if (end == token.c_str() || *end != '\0' || errno == ERANGE)
-    Fail(std::string("invalid number '") + token + "' for " + what);
-  if (!std::isfinite(v)) Fail(std::string("non-finite value '") + token + "' for " + what);
+  // The whole token must be the number (an embedded NUL byte ends strtod early). Underflow
+  // to a subnormal is fine (ERANGE is ignored: such values are written by %.17g and must
+  // round-trip); overflow gives inf, rejected with NaN below.
+  if (token.empty() || end != token.c_str() + token.size())
+    Fail(std::string("invalid number '") + Printable(token) + "' for " + what);
+  if (!std::isfinite(v)) Fail(std::string("non-finite value '") + Printable(token) + "' for " + what);
   return v;
 }
 
@@ -61,9 +83,26 @@ int64_t TextReader::ToInt(const std::string& token, const char* what) const {
   errno = 0;
   char* end = nullptr;
   const long long v = std::strtoll(token.c_str(), &end, 10);
-  if (end == token.c_str() || *end != '\0' || errno == ERANGE)
-    Fail(std::string("invalid integer '") + token + "' for " + what);
+  if (token.empty() || end != token.c_str() + token.size() || errno == ERANGE)
+    Fail(std::string("invalid integer '") + Printable(token) + "' for " + what);
   return v;
+}
+
+std::string TextReader::Printable(const std::string& token) {
+  // Messages are one line: control bytes of a corrupt file are shown escaped, and very long
+  // tokens are cut.
+  std::string out;
+  for (unsigned char c : token.substr(0, 40)) {
+    if (c >= 0x20 && c != 0x7f) {
+      out += static_cast<char>(c);
+    } else {
+      char buf[8];
+      std::snprintf(buf, sizeof(buf), "\\x%02x", c);
+      out += buf;
+    }
+  }
+  if (token.size() > 40) out += "...";
+  return out;
 }
 
 void TextReader::RequireTokens(const std::vector<std::string>& tokens, size_t n, const char* what) const {

@@ -1,5 +1,0 @@
-#include "apps/commands.h"
-namespace pgba::app {
-void RegisterSynth(CLI::App& app) {}
-void RegisterEvaluate(CLI::App& app) {}
-}

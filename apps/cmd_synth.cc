@@ -1,0 +1,95 @@
+// pgba synth --scenario S --out DIR [--seed N] [--noise PX] [--outliers F] [--images N]
+// Writes DIR/gt/ (true poses and points, noisy observations), DIR/input/ (same cameras,
+// observations and tracks; poses identity, points at the origin) and, for scenarios that
+// withhold a loop, DIR/loop_pairs.txt.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include "apps/commands.h"
+#include "modules/synthetic/synthetic_scene.h"
+#include "pgba/io/colmap_text.h"
+#include "pgba/io/loop_pairs.h"
+#include "pgba/util/error.h"
+#include "pgba/util/timer.h"
+
+namespace pgba::app {
+
+namespace {
+
+struct SynthArgs {
+  std::string scenario = "orbit";
+  std::string out;
+  int64_t seed = 1;  // signed so that a negative seed is rejected rather than wrapped
+  SyntheticOptions options;
+};
+
+int RunSynth(const SynthArgs& args) {
+  SyntheticOptions options = args.options;
+  if (!ParseSyntheticScenario(args.scenario, &options.scenario))
+    ThrowInputError("--scenario", 0, "unknown scenario '" + args.scenario + "' (orbit, longfocal, aerial, planar)");
+  Timer timer;
+  const SyntheticScene scene = GenerateSyntheticScene(options);
+  const double generate_s = timer.Seconds();
+
+  namespace fs = std::filesystem;
+  const fs::path out(args.out);
+  fs::create_directories(out);
+  WriteColmapText(scene.gt, (out / "gt").string());
+  WriteColmapText(scene.input, (out / "input").string());
+  const fs::path loop = out / "loop_pairs.txt";
+  if (!scene.loop_pairs.empty()) {
+    WriteLoopPairs(scene.loop_pairs, loop.string());
+  } else {
+    std::error_code ec;
+    fs::remove(loop, ec);  // a stale file from another scenario would describe a loop that is not there
+  }
+
+  const size_t obs = scene.gt.NumObservations();
+  const size_t points = scene.gt.points3D.size();
+  std::printf(
+      "synth %s (seed %llu, noise %.3g px, outliers %.3g): %zu images, %zu points, %zu observations, "
+      "mean track length %.2f, %zu outliers, %zu loop pairs, extent %.1f m, %.2f s\n",
+      SyntheticScenarioName(options.scenario), static_cast<unsigned long long>(options.seed), options.noise_px,
+      options.outlier_fraction, scene.gt.images.size(), points, obs, points ? double(obs) / points : 0.0,
+      scene.outliers.size(), scene.loop_pairs.size(), scene.extent, generate_s);
+  std::printf("wrote %s/gt, %s/input%s\n", out.string().c_str(), out.string().c_str(),
+              scene.loop_pairs.empty() ? "" : (", " + loop.string()).c_str());
+  return 0;
+}
+
+}  // namespace
+
+void RegisterSynth(CLI::App& app) {
+  auto args = std::make_shared<SynthArgs>();
+  CLI::App* sub = app.add_subcommand("synth", "Generate a synthetic scene with ground truth");
+  sub->add_option("--scenario", args->scenario, "orbit | longfocal | aerial | planar")->required();
+  sub->add_option("--out", args->out, "Output directory (gt/, input/, loop_pairs.txt)")->required();
+  sub->add_option("--seed", args->seed, "Random seed, >= 0 (default 1)");
+  sub->add_option("--noise", args->options.noise_px, "Gaussian observation noise, px per coordinate (default 0.5)");
+  sub->add_option("--outliers", args->options.outlier_fraction,
+                  "Fraction of observations replaced by random pixels, in [0, 1) (default 0)");
+  sub->add_option("--images", args->options.num_images, "Number of images, >= 3 (default: the scenario's)");
+  sub->add_option("--points", args->options.num_points, "Number of scene points (default: the scenario's)");
+  sub->add_option("--strips", args->options.num_strips, "aerial: number of strips (default 6, more for big blocks)");
+  AddCommand(app, sub, [args, sub] {
+    SynthArgs a = *args;
+    if (sub->count("--images") && a.options.num_images < 3)
+      ThrowInputError("--images", 0, "must be >= 3, got " + std::to_string(a.options.num_images));
+    if (sub->count("--points") && a.options.num_points < 1)
+      ThrowInputError("--points", 0, "must be >= 1, got " + std::to_string(a.options.num_points));
+    if (sub->count("--strips") && a.options.num_strips < 1)
+      ThrowInputError("--strips", 0, "must be >= 1, got " + std::to_string(a.options.num_strips));
+    if (a.seed < 0) ThrowInputError("--seed", 0, "must be >= 0, got " + std::to_string(a.seed));
+    a.options.seed = static_cast<uint64_t>(a.seed);
+    if (!(a.options.noise_px >= 0.0 && std::isfinite(a.options.noise_px)))
+      ThrowInputError("--noise", 0, "must be a finite number >= 0 px");
+    if (!(a.options.outlier_fraction >= 0.0 && a.options.outlier_fraction < 1.0))
+      ThrowInputError("--outliers", 0, "must be in [0, 1)");
+    return RunSynth(a);
+  });
+}
+
+}  // namespace pgba::app

@@ -1,0 +1,97 @@
+#include "evaluation/ground_truth.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "evaluation/statistics.h"
+#include "pgba/geometry/rotation.h"
+
+namespace pgba {
+
+double SceneExtent(const Reconstruction& rec) {
+  std::vector<Eigen::Vector3d> c;
+  c.reserve(rec.images.size());
+  for (const auto& [id, im] : rec.images) c.push_back(im.pose.C());
+  // O(n^2) is a few milliseconds even for 5,000 images; an exact diameter keeps the
+  // definition simple.
+  double best2 = 0.0;
+  for (size_t i = 0; i < c.size(); ++i)
+    for (size_t j = i + 1; j < c.size(); ++j) best2 = std::max(best2, (c[i] - c[j]).squaredNorm());
+  return std::sqrt(best2);
+}
+
+namespace {
+
+// Sim(3) from the centres flagged in `use`; false if degenerate.
+bool AlignSubset(const std::vector<Eigen::Vector3d>& est, const std::vector<Eigen::Vector3d>& truth,
+                 const std::vector<bool>& use, Sim3* sim) {
+  std::vector<Eigen::Vector3d> src, dst;
+  for (size_t i = 0; i < est.size(); ++i)
+    if (use[i]) {
+      src.push_back(est[i]);
+      dst.push_back(truth[i]);
+    }
+  return EstimateSim3(src, dst, sim);
+}
+
+std::vector<double> CentreErrors(const Sim3& sim, const std::vector<Eigen::Vector3d>& est,
+                                 const std::vector<Eigen::Vector3d>& truth) {
+  std::vector<double> e(est.size());
+  for (size_t i = 0; i < est.size(); ++i) e[i] = (sim.Apply(est[i]) - truth[i]).norm();
+  return e;
+}
+
+}  // namespace
+
+GroundTruthErrors CompareToGroundTruth(const Reconstruction& model, const Reconstruction& gt,
+                                       const GroundTruthOptions& options) {
+  GroundTruthErrors out;
+  out.scene_extent = SceneExtent(gt);
+  std::vector<const Image*> est_images, gt_images;
+  for (const auto& [id, im] : model.images) {
+    const auto gt_id = gt.FindImageByName(im.name);
+    if (!gt_id) continue;
+    est_images.push_back(&im);
+    gt_images.push_back(&gt.images.at(*gt_id));
+  }
+  out.num_common = est_images.size();
+  std::vector<Eigen::Vector3d> est(out.num_common), truth(out.num_common);
+  for (size_t i = 0; i < out.num_common; ++i) {
+    est[i] = est_images[i]->pose.C();
+    truth[i] = gt_images[i]->pose.C();
+  }
+
+  std::vector<bool> use(out.num_common, true);
+  if (!AlignSubset(est, truth, use, &out.alignment) || !(out.scene_extent > 0)) return out;
+  for (int round = 0; round < options.max_rounds; ++round) {
+    const std::vector<double> err = CentreErrors(out.alignment, est, truth);
+    // The floor keeps an exact alignment (median error ~ 1e-16) from rejecting centres over
+    // rounding noise.
+    const double threshold = std::max(options.outlier_factor * Median(err), 1e-9 * out.scene_extent);
+    std::vector<bool> keep(out.num_common);
+    for (size_t i = 0; i < err.size(); ++i) keep[i] = err[i] <= threshold;
+    if (keep == use) break;
+    Sim3 refined;
+    if (!AlignSubset(est, truth, keep, &refined)) break;  // too few or degenerate inliers
+    use = keep;
+    out.alignment = refined;
+  }
+  out.num_alignment_inliers = static_cast<size_t>(std::count(use.begin(), use.end(), true));
+
+  const std::vector<double> centre_err = CentreErrors(out.alignment, est, truth);
+  for (size_t i = 0; i < out.num_common; ++i) {
+    const Pose aligned = out.alignment.Apply(est_images[i]->pose);
+    out.names.push_back(est_images[i]->name);
+    out.rot_err_deg.push_back(RotationAngleDeg(aligned.R(), gt_images[i]->pose.R()));
+    out.center_err_rel.push_back(centre_err[i] / out.scene_extent);
+  }
+  out.rot_err_deg_median = Median(out.rot_err_deg);
+  out.rot_err_deg_max = Max(out.rot_err_deg);
+  out.center_err_rel_median = Median(out.center_err_rel);
+  out.center_err_rel_max = Max(out.center_err_rel);
+  out.ok = true;
+  return out;
+}
+
+}  // namespace pgba

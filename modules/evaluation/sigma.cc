@@ -1,0 +1,103 @@
+#include "evaluation/sigma.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <vector>
+
+#include "evaluation/statistics.h"
+#include "pgba/geometry/triangulation.h"
+
+namespace pgba {
+
+RegisteredViews MatchImagesByName(const Reconstruction& model, const Reconstruction& obs) {
+  std::map<std::string, const Image*> by_name;
+  for (const auto& [id, im] : model.images) by_name.emplace(im.name, &im);
+  RegisteredViews views;
+  for (const auto& [id, im] : obs.images) {
+    auto it = by_name.find(im.name);
+    if (it == by_name.end()) continue;
+    views.poses.emplace(id, it->second->pose);
+    views.cameras.emplace(id, &model.CameraOf(*it->second));
+  }
+  return views;
+}
+
+namespace {
+
+// Outcome of one track, written into its own slot by the parallel loop.
+struct TrackSlot {
+  size_t num_views = 0;        // registered views (0 when the track is not evaluated)
+  bool triangulated = false;
+  std::vector<double> residuals_px;
+};
+
+TrackSlot EvaluateTrack(const Reconstruction& obs, const Point3D& point, const PoseMap& poses,
+                        const CameraRefMap* cameras, const TriangulationOptions& tri) {
+  std::vector<TrackView> views;
+  views.reserve(point.track.size());
+  for (const TrackElement& el : point.track) {
+    auto pose = poses.find(el.image_id);
+    if (pose == poses.end()) continue;  // unregistered image: its observation is skipped
+    const Image& image = obs.images.at(el.image_id);
+    TrackView v;
+    v.pose = pose->second;
+    v.camera = &obs.CameraOf(image);
+    if (cameras) {
+      auto cam = cameras->find(el.image_id);
+      if (cam != cameras->end()) v.camera = cam->second;
+    }
+    v.pixel = image.points2D.at(el.point2D_idx).xy;
+    views.push_back(v);
+  }
+  TrackSlot slot;
+  if (views.size() < 2) return slot;
+  slot.num_views = views.size();
+  TriangulatedPoint p = TriangulateTrack(views, tri);
+  slot.triangulated = p.ok;
+  if (p.ok) slot.residuals_px = std::move(p.residuals_px);
+  return slot;
+}
+
+}  // namespace
+
+SigmaResult EvaluateSigma(const Reconstruction& obs, const PoseMap& poses, const SigmaOptions& options,
+                          const CameraRefMap* cameras) {
+  std::vector<const Point3D*> points;
+  points.reserve(obs.points3D.size());
+  for (const auto& [id, p] : obs.points3D) points.push_back(&p);
+
+  TriangulationOptions tri;
+  tri.huber_px = options.huber_px;
+  tri.outlier_px = options.inlier_px;
+  tri.max_iterations = options.max_iterations;
+
+  std::vector<TrackSlot> slots(points.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size()), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) slots[i] = EvaluateTrack(obs, *points[i], poses, cameras, tri);
+  });
+
+  // Reduce in track order so that the result does not depend on the TBB schedule.
+  SigmaResult out;
+  std::vector<double> all, inliers;
+  for (const TrackSlot& s : slots) {
+    if (s.num_views == 0) continue;
+    ++out.num_tracks;
+    out.num_observations += s.num_views;
+    if (!s.triangulated) continue;
+    ++out.num_triangulated;
+    for (double e : s.residuals_px) {
+      all.push_back(e);
+      if (e < options.inlier_px) inliers.push_back(e);
+    }
+  }
+  out.num_inliers = inliers.size();
+  if (!inliers.empty()) out.rms = Rms(inliers);
+  if (!all.empty()) out.median = Median(all);
+  if (out.num_observations > 0)
+    out.inlier_fraction = static_cast<double>(out.num_inliers) / static_cast<double>(out.num_observations);
+  return out;
+}
+
+}  // namespace pgba

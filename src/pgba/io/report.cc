@@ -1,0 +1,26 @@
+#include "pgba/io/report.h"
+
+#include "pgba/util/atomic_file.h"
+
+namespace pgba {
+
+nlohmann::json& Report::AddStage(const std::string& name, double seconds) {
+  nlohmann::json& stages = root_["stages"];
+  if (stages.is_null()) stages = nlohmann::json::object();
+  const size_t order = stages.contains(name) ? stages[name].value("order", stages.size()) : stages.size();
+  nlohmann::json& stage = stages[name];
+  stage = nlohmann::json::object();
+  stage["seconds"] = seconds;
+  stage["peak_rss_mb"] = PeakRssMb();
+  stage["order"] = order;
+  return stage;
+}
+
+void Report::Write(const std::string& path) const { WriteStringAtomically(path, root_.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n"); }
+
+nlohmann::json& StageTimer::Stop() {
+  stopped_ = true;
+  return report_->AddStage(name_, timer_.Seconds());
+}
+
+}  // namespace pgba

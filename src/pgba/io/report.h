@@ -1,0 +1,55 @@
+// report.json of `init` / `reconstruct` / `run` (ARCHITECTURE.md, "Report keys"):
+//   {"stages": {NAME: {"seconds": s, "peak_rss_mb": m, "order": k, ...stage extras}},
+//    "images_registered": n, "images_dropped": [names], ...}
+// A thin layer over nlohmann::json: stages record their wall time and the process' peak
+// memory; everything else is free-form. Written atomically, so a crashed run never leaves
+// a truncated report behind.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "pgba/util/timer.h"
+
+namespace pgba {
+
+class Report {
+ public:
+  Report() : root_(nlohmann::json::object()) {}
+
+  // Top-level free-form keys: report["images_registered"] = 42.
+  nlohmann::json& operator[](const std::string& key) { return root_[key]; }
+  const nlohmann::json& json() const { return root_; }
+
+  // Records stage `name` (replacing an earlier record of the same name) with its seconds,
+  // the peak RSS so far and its position in the run ("order", since JSON objects are
+  // unordered); returns the stage object for extra fields.
+  nlohmann::json& AddStage(const std::string& name, double seconds);
+
+  // Pretty-printed, atomically (InputError/runtime_error if the path is not writable).
+  void Write(const std::string& path) const;
+
+ private:
+  nlohmann::json root_;
+};
+
+// Times a stage from construction to Stop() (or destruction) and records it in the report.
+//   { StageTimer t(&report, "triplets"); ...; t.Stop()["num_triplets"] = n; }
+class StageTimer {
+ public:
+  StageTimer(Report* report, std::string name) : report_(report), name_(std::move(name)) {}
+  ~StageTimer() {
+    if (!stopped_) Stop();
+  }
+  StageTimer(const StageTimer&) = delete;
+  StageTimer& operator=(const StageTimer&) = delete;
+  nlohmann::json& Stop();
+
+ private:
+  Report* report_;
+  std::string name_;
+  Timer timer_;
+  bool stopped_ = false;
+};
+
+}  // namespace pgba

@@ -1,0 +1,95 @@
+// `pgba synth` end to end: writes gt/, input/ and loop_pairs.txt that read back into the
+// scene the library generates; bad arguments exit with code 2 and a one-line error.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+
+#include "modules/synthetic/synthetic_scene.h"
+#include "pgba/io/colmap_text.h"
+#include "pgba/io/loop_pairs.h"
+
+namespace pgba {
+namespace {
+namespace fs = std::filesystem;
+
+struct CliResult {
+  int code = -1;
+  std::string output;  // stdout + stderr
+};
+
+CliResult RunPgba(const std::string& args) {
+  CliResult r;
+  FILE* pipe = ::popen((std::string(PGBA_BINARY) + " " + args + " 2>&1").c_str(), "r");
+  if (!pipe) return r;
+  std::array<char, 4096> buf;
+  while (fgets(buf.data(), buf.size(), pipe)) r.output += buf.data();
+  const int status = ::pclose(pipe);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+fs::path TempDir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("pgba_synth_cli_" + std::to_string(::getpid()) + "_" + name);
+  fs::remove_all(d);
+  return d;
+}
+
+TEST(SynthCli, WritesGroundTruthInputAndLoopPairs) {
+  const fs::path out = TempDir("longfocal");
+  const CliResult r =
+      RunPgba("synth --scenario longfocal --out " + out.string() + " --seed 5 --noise 0.3 --outliers 0.02");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("93 images"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("mean track length"), std::string::npos) << r.output;
+
+  SyntheticOptions o;
+  o.scenario = SyntheticScenario::kLongFocal;
+  o.seed = 5;
+  o.noise_px = 0.3;
+  o.outlier_fraction = 0.02;
+  const SyntheticScene expected = GenerateSyntheticScene(o);
+  const Reconstruction gt = ReadColmapText((out / "gt").string());
+  const Reconstruction input = ReadColmapText((out / "input").string());
+  EXPECT_EQ(gt.images.size(), 93u);
+  EXPECT_EQ(gt.points3D.size(), expected.gt.points3D.size());
+  EXPECT_EQ(gt.NumObservations(), expected.gt.NumObservations());
+  EXPECT_EQ(input.NumObservations(), expected.gt.NumObservations());
+  EXPECT_EQ(gt.images.at(7).pose.t(), expected.gt.images.at(7).pose.t());
+  EXPECT_EQ(input.images.at(7).pose.t(), Eigen::Vector3d::Zero());
+  const auto loop = ReadLoopPairs((out / "loop_pairs.txt").string());
+  ASSERT_EQ(loop.size(), expected.loop_pairs.size());
+  EXPECT_EQ(loop.front().xy_i, expected.loop_pairs.front().xy_i);
+
+  // Re-running another scenario into the same directory leaves no stale loop file behind.
+  ASSERT_EQ(RunPgba("synth --scenario planar --images 10 --out " + out.string()).code, 0);
+  EXPECT_FALSE(fs::exists(out / "loop_pairs.txt"));
+  EXPECT_EQ(ReadColmapText((out / "gt").string()).images.size(), 10u);
+  fs::remove_all(out);
+}
+
+TEST(SynthCli, BadArgumentsExitWithCode2) {
+  const fs::path out = TempDir("bad");
+  // {arguments, what the one-line error must name}
+  const std::vector<std::pair<std::string, std::string>> cases = {{"--scenario temple", "temple"},
+                                                                  {"--scenario orbit --noise -1", "--noise"},
+                                                                  {"--scenario orbit --outliers 1", "--outliers"},
+                                                                  {"--scenario orbit --outliers -0.2", "--outliers"},
+                                                                  {"--scenario orbit --images 2", "--images"},
+                                                                  {"--scenario orbit --images 0", "--images"},
+                                                                  {"--scenario orbit --noise abc", "--noise"},
+                                                                  {"--scenario aerial --strips 0", "--strips"},
+                                                                  {"--scenario orbit --seed -3", "--seed"},
+                                                                  {"--scenario orbit --noise nan", "--noise"}};
+  for (const auto& [args, names] : cases) {
+    const CliResult r = RunPgba("synth " + args + " --out " + out.string());
+    EXPECT_EQ(r.code, 2) << args << ": " << r.output;
+    EXPECT_NE(r.output.find(names), std::string::npos) << args << ": " << r.output;
+  }
+  EXPECT_FALSE(fs::exists(out / "gt"));
+}
+
+}  // namespace
+}  // namespace pgba

@@ -1,0 +1,179 @@
+// Atomic outputs: the final name holds either the complete old or the complete new content,
+// never a partial file, and no temporary is left behind, whatever the writer does.
+#include "pgba/util/atomic_file.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "pgba/util/error.h"
+
+namespace pgba {
+namespace {
+namespace fs = std::filesystem;
+
+class AtomicFileTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("pgba_atomic_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
+            std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  static std::string Read(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  }
+  // Every entry under the test directory (recursively), as relative paths.
+  std::vector<std::string> Entries() const {
+    std::vector<std::string> out;
+    for (const auto& e : fs::recursive_directory_iterator(dir_)) out.push_back(fs::relative(e.path(), dir_).string());
+    std::sort(out.begin(), out.end());
+    return out;
+  }
+  fs::path dir_;
+};
+
+using Names = std::vector<std::string>;
+
+TEST_F(AtomicFileTest, WritesAndReplacesWithoutTemporaries) {
+  const fs::path f = dir_ / "out.txt";
+  WriteStringAtomically(f, "first\n");
+  EXPECT_EQ(Read(f), "first\n");
+  WriteStringAtomically(f, "second, longer content\n");
+  EXPECT_EQ(Read(f), "second, longer content\n");
+  WriteStringAtomically(f, "");
+  EXPECT_EQ(Read(f), "");
+  EXPECT_EQ(Entries(), Names({"out.txt"}));
+  // Missing parent directories are created.
+  WriteFileAtomically(dir_ / "a" / "b" / "c.txt", [](std::ostream& out) { out << 42; });
+  EXPECT_EQ(Read(dir_ / "a" / "b" / "c.txt"), "42");
+  EXPECT_EQ(Entries(), Names({"a", "a/b", "a/b/c.txt", "out.txt"}));
+}
+
+TEST_F(AtomicFileTest, WriterThrowingKeepsOldContent) {
+  const fs::path f = dir_ / "model.txt";
+  WriteStringAtomically(f, "old complete content\n");
+  struct WriterFailure : std::exception {};
+  EXPECT_THROW(WriteFileAtomically(f,
+                                   [](std::ostream& out) {
+                                     out << "half of the new cont";
+                                     out.flush();
+                                     throw WriterFailure();
+                                   }),
+               WriterFailure);  // the writer's own exception, unchanged
+  EXPECT_EQ(Read(f), "old complete content\n");
+  EXPECT_EQ(Entries(), Names({"model.txt"}));
+  // Also when there was no old file: nothing appears.
+  EXPECT_THROW(WriteFileAtomically(dir_ / "new.txt", [](std::ostream&) { throw InputError("bad"); }), InputError);
+  EXPECT_EQ(Entries(), Names({"model.txt"}));
+}
+
+TEST_F(AtomicFileTest, UnwritablePathsAreInputErrors) {
+  // The target is a directory.
+  fs::create_directory(dir_ / "adir");
+  try {
+    WriteStringAtomically(dir_ / "adir", "x");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), (dir_ / "adir").string() + ": is a directory, cannot write a file there");
+  }
+  // The parent is a regular file.
+  WriteStringAtomically(dir_ / "file", "content");
+  try {
+    WriteStringAtomically(dir_ / "file" / "child.txt", "x");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind((dir_ / "file" / "child.txt").string() + ": cannot create directory", 0),
+              0u)
+        << e.what();
+  }
+  EXPECT_EQ(Read(dir_ / "file"), "content");
+  EXPECT_EQ(Entries(), Names({"adir", "file"}));
+}
+
+TEST_F(AtomicFileTest, StagedDirectoryCommitReplacesWholeDirectory) {
+  const fs::path model = dir_ / "model";
+  fs::create_directories(model);
+  WriteStringAtomically(model / "a.txt", "old a");
+  WriteStringAtomically(model / "stale.txt", "only in the old model");
+  {
+    StagedDirectory staged(model);
+    EXPECT_NE(staged.path(), model);
+    EXPECT_EQ(staged.path().parent_path(), dir_);  // sibling: same file system, rename is atomic
+    WriteStringAtomically(staged.path() / "a.txt", "new a");
+    WriteStringAtomically(staged.path() / "b.txt", "new b");
+    // Nothing visible before the commit.
+    EXPECT_EQ(Read(model / "a.txt"), "old a");
+    EXPECT_FALSE(fs::exists(model / "b.txt"));
+    staged.Commit();
+  }
+  EXPECT_EQ(Read(model / "a.txt"), "new a");
+  EXPECT_EQ(Read(model / "b.txt"), "new b");
+  EXPECT_EQ(Entries(), Names({"model", "model/a.txt", "model/b.txt"}));  // stale file gone, no staging left
+  // Commit where nothing existed yet (and the parent is missing).
+  {
+    StagedDirectory staged(dir_ / "deep" / "fresh");
+    WriteStringAtomically(staged.path() / "x.txt", "x");
+    staged.Commit();
+  }
+  EXPECT_EQ(Read(dir_ / "deep" / "fresh" / "x.txt"), "x");
+}
+
+TEST_F(AtomicFileTest, StagedDirectoryRollbackOnException) {
+  const fs::path model = dir_ / "model";
+  fs::create_directories(model);
+  WriteStringAtomically(model / "a.txt", "old a");
+  try {
+    StagedDirectory staged(model);
+    WriteStringAtomically(staged.path() / "a.txt", "new a");
+    throw std::runtime_error("stage failed half-way");
+  } catch (const std::runtime_error&) {
+  }
+  EXPECT_EQ(Read(model / "a.txt"), "old a");
+  EXPECT_EQ(Entries(), Names({"model", "model/a.txt"}));
+  // Without any previous directory: nothing is created.
+  { StagedDirectory staged(dir_ / "never"); }
+  EXPECT_EQ(Entries(), Names({"model", "model/a.txt"}));
+}
+
+// "out/model/" names the same directory as "out/model": the staging directory must be a
+// sibling, not a child of the directory it replaces.
+TEST_F(AtomicFileTest, StagedDirectoryWithTrailingSlash) {
+  const fs::path model = dir_ / "model";
+  fs::create_directories(model);
+  WriteStringAtomically(model / "a.txt", "old");
+  {
+    StagedDirectory staged(model.string() + "/");
+    EXPECT_EQ(staged.path().parent_path(), dir_);
+    WriteStringAtomically(staged.path() / "a.txt", "new");
+    staged.Commit();
+  }
+  EXPECT_EQ(Read(model / "a.txt"), "new");
+  EXPECT_EQ(Entries(), Names({"model", "model/a.txt"}));
+}
+
+TEST_F(AtomicFileTest, StagedDirectoryRefusesToReplaceAFile) {
+  WriteStringAtomically(dir_ / "model", "a user's file");
+  try {
+    StagedDirectory staged(dir_ / "model");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), (dir_ / "model").string() + ": exists and is not a directory");
+  }
+  EXPECT_EQ(Read(dir_ / "model"), "a user's file");
+  EXPECT_EQ(Entries(), Names({"model"}));
+}
+
+}  // namespace
+}  // namespace pgba
