@@ -10,6 +10,8 @@
 namespace pgba {
 namespace {
 
+constexpr double kOpenCvUpsampleBias = 0.25;
+
 // Quantises one float descriptor row to uint8 as COLMAP stores descriptors.
 void QuantiseRow(const float* in, bool root_sift, uint8_t* out) {
   float v[kSiftDescriptorSize];
@@ -82,9 +84,12 @@ FeatureSet ExtractSift(const cv::Mat& gray, const SiftOptions& options) {
     const cv::KeyPoint& kp = kps[order[i]];
     Keypoint& k = out.keypoints[i];
     // OpenCV puts pixel centres at integers, COLMAP at +0.5: shift, then scale the
-    // downscaled image's extent onto the full image's extent.
-    k.x = static_cast<float>((kp.pt.x + 0.5) * fx);
-    k.y = static_cast<float>((kp.pt.y + 0.5) * fy);
+    // downscaled image's extent onto the full image's extent. OpenCV 4.6's SIFT also
+    // detects on a 2x upsampled image (INTER_LINEAR_EXACT: upsampled pixel u samples the
+    // input at u/2 - 0.25) but maps keypoints back with u/2 alone, a +0.25 px bias that
+    // is removed here (kOpenCvUpsampleBias; the unit test locates a blob to 0.05 px).
+    k.x = static_cast<float>((kp.pt.x - kOpenCvUpsampleBias + 0.5) * fx);
+    k.y = static_cast<float>((kp.pt.y - kOpenCvUpsampleBias + 0.5) * fy);
     k.scale = static_cast<float>(0.5 * kp.size * mean_f);
     k.orientation = static_cast<float>(kp.angle * CV_PI / 180.0);
     QuantiseRow(desc.ptr<float>(order[i]), options.root_sift, out.descriptors.ptr<uint8_t>(static_cast<int>(i)));
