@@ -16,5 +16,7 @@ void AddCommand(CLI::App& app, CLI::App* sub, CommandRunner run);
 void RegisterSynth(CLI::App& app);
 void RegisterEvaluate(CLI::App& app);
 void RegisterInit(CLI::App& app);
+void RegisterFeatures(CLI::App& app);
+void RegisterMatch(CLI::App& app);
 
 }  // namespace pgba::app

@@ -27,6 +27,8 @@ int main(int argc, char** argv) {
   app::RegisterSynth(app);
   app::RegisterEvaluate(app);
   app::RegisterInit(app);
+  app::RegisterFeatures(app);
+  app::RegisterMatch(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

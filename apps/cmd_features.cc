@@ -1,0 +1,54 @@
+// pgba features --images DIR [--calib cameras.txt] [--camera-map FILE] --out WS
+//   [--max-features N] [--root-sift|--no-root-sift] [--max-image-size PX] [--no-cache]
+#include <filesystem>
+
+#include "apps/commands.h"
+#include "apps/report_merge.h"
+#include "features/extract_features.h"
+#include "pgba/util/timer.h"
+
+namespace pgba::app {
+
+void RegisterFeatures(CLI::App& app) {
+  struct Args {
+    std::string images, out;
+    CalibrationInput calib;
+    FeatureExtractionOptions options;
+  };
+  auto args = std::make_shared<Args>();
+  CLI::App* sub = app.add_subcommand("features", "SIFT features of a folder of images into the workspace");
+  sub->add_option("--images", args->images, "folder of images")->required();
+  sub->add_option("--calib", args->calib.cameras_path,
+                  "COLMAP cameras.txt (default: cameras.txt in the image folder or its parent)");
+  sub->add_option("--camera-map", args->calib.camera_map_path,
+                  "lines IMAGE_NAME CAMERA_ID, needed when the calibration has several cameras");
+  sub->add_option("--out", args->out, "workspace directory")->required();
+  sub->add_option("--max-features", args->options.sift.max_features, "max features per image")->capture_default_str();
+  sub->add_flag("--root-sift,!--no-root-sift", args->options.sift.root_sift, "RootSIFT descriptors")
+      ->capture_default_str();
+  sub->add_option("--max-image-size", args->options.sift.max_image_size,
+                  "downscale images whose larger side exceeds this (pixels; 0 = never)")
+      ->capture_default_str();
+  sub->add_flag("!--no-cache", args->options.use_cache, "recompute even where cached features exist");
+  AddCommand(app, sub, [args] {
+    const FeatureExtractionResult r = ExtractFeatures(args->images, args->calib, args->out, args->options);
+    nlohmann::json record = {{"seconds", r.seconds},
+                             {"peak_rss_mb", PeakRssMb()},
+                             {"images", r.index.images.size()},
+                             {"images_extracted", r.num_extracted},
+                             {"images_cached", r.num_cached},
+                             {"megapixels_extracted", r.megapixels_extracted},
+                             {"options", nlohmann::json(args->options)}};
+    if (r.megapixels_extracted > 0) record["seconds_per_megapixel"] = r.seconds / r.megapixels_extracted;
+    nlohmann::json skipped = nlohmann::json::array();
+    for (const SkippedImage& s : r.skipped) skipped.push_back({{"name", s.name}, {"reason", s.reason}});
+    record["images_skipped"] = skipped;
+    long total = 0;
+    for (const IndexedImage& im : r.index.images) total += im.num_features;
+    record["features_mean"] = static_cast<double>(total) / r.index.images.size();
+    MergeStageIntoReport((std::filesystem::path(args->out) / "report.json").string(), "features", record);
+    return 0;
+  });
+}
+
+}  // namespace pgba::app

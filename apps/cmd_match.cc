@@ -1,0 +1,93 @@
+// pgba match --out WS [--pairs exhaustive|sequential|retrieval] [--window N] [--loop]
+//   [--neighbors K] [--threshold PX]
+//   -> WS/tracks/ (COLMAP text model of the tracks, the input of `pgba init --tracks`),
+//      WS/matching/two_view_geometries.txt, stage "match" in WS/report.json.
+// pgba match --database DB.db --out WS
+//   -> the same WS/tracks/ from COLMAP's features and verified matches (as GLOMAP does).
+#include <filesystem>
+
+#include "apps/commands.h"
+#include "apps/report_merge.h"
+#include "matching/match_images.h"
+#include "pgba/io/colmap_database.h"
+#include "pgba/io/colmap_text.h"
+#include "pgba/io/two_view_geometries.h"
+#include "pgba/util/logging.h"
+#include "pgba/util/timer.h"
+
+namespace pgba::app {
+namespace fs = std::filesystem;
+
+namespace {
+
+nlohmann::json TrackRecord(const Reconstruction& rec, const TrackStats& st) {
+  return {{"images", rec.images.size()},
+          {"tracks", st.num_tracks},
+          {"observations", st.num_observations},
+          {"mean_track_length", st.mean_track_length},
+          {"tracks_conflicting_dropped", st.num_conflicting}};
+}
+
+}  // namespace
+
+void RegisterMatch(CLI::App& app) {
+  struct Args {
+    std::string out, database;
+    MatchingOptions options;
+  };
+  auto args = std::make_shared<Args>();
+  CLI::App* sub = app.add_subcommand("match", "match, verify and chain features into tracks (WS/tracks/)");
+  sub->add_option("--out", args->out, "workspace directory (with features from `pgba features`)")->required();
+  sub->add_option("--pairs", args->options.pairs.method, "pair selection: exhaustive, sequential, retrieval")
+      ->capture_default_str();
+  sub->add_option("--window", args->options.pairs.window, "sequential: images after each image")->capture_default_str();
+  sub->add_flag("--loop", args->options.pairs.loop, "sequential: wrap the window around (closed rings)");
+  sub->add_option("--neighbors", args->options.pairs.vlad.neighbors, "retrieval: most similar images per image")
+      ->capture_default_str();
+  sub->add_option("--threshold", args->options.verification.relative_pose.threshold_px,
+                  "RANSAC inlier threshold, pixels of the (possibly downscaled) images SIFT ran on")
+      ->capture_default_str();
+  sub->add_option("--min-inliers", args->options.verification.relative_pose.min_inliers,
+                  "verified pairs need at least this many inliers")
+      ->capture_default_str();
+  sub->add_option("--database", args->database,
+                  "import tracks from a COLMAP database.db instead (its verified two_view_geometries)");
+  AddCommand(app, sub, [args] {
+    const fs::path ws(args->out);
+    const std::string report = (ws / "report.json").string();
+    if (!args->database.empty()) {
+      Timer timer;
+      TrackStats st;
+      const Reconstruction rec =
+          TracksFromColmapDatabase(ReadColmapDatabase(args->database), args->options.tracks, &st, args->database);
+      fs::create_directories(ws);
+      WriteColmapText(rec, (ws / "tracks").string());
+      nlohmann::json record = TrackRecord(rec, st);
+      record["seconds"] = timer.Seconds();
+      record["source"] = args->database;
+      MergeStageIntoReport(report, "match", record);
+      PGBA_LOG_INFO << "imported " << st.num_tracks << " tracks over " << rec.images.size() << " images from "
+                    << args->database;
+      return 0;
+    }
+    const MatchingResult r = MatchImages(args->out, args->options);
+    WriteColmapText(r.tracks, (ws / "tracks").string());
+    fs::create_directories(ws / "matching");
+    WriteTwoViewGeometries(r.two_view_geometries, (ws / "matching" / "two_view_geometries.txt").string());
+    nlohmann::json record = TrackRecord(r.tracks, r.track_stats);
+    record["seconds"] = r.seconds;
+    record["peak_rss_mb"] = PeakRssMb();
+    record["pairs"] = r.num_pairs;
+    record["pairs_verified"] = r.two_view_geometries.size();
+    record["putative_matches"] = r.num_putative;
+    record["verified_matches"] = r.num_verified_matches;
+    record["seconds_matching"] = r.seconds_matching;
+    if (r.num_pairs > 0) record["seconds_per_pair"] = r.seconds_matching / r.num_pairs;
+    record["images_without_tracks"] = r.images_without_tracks;
+    record["options"] = args->options;
+    MergeStageIntoReport(report, "match", record);
+    return 0;
+  });
+}
+
+}  // namespace pgba::app

@@ -1,0 +1,30 @@
+// The per-image feature cache WS/features/<image name>.bin: a small binary format with a
+// header, so a re-run can tell a finished image from a stale or damaged one.
+//
+// Layout (little-endian):
+//   char[8]  "PGBAFEAT"
+//   uint32   version (kFeatureFileVersion)
+//   uint32   key length, then the key bytes (extraction options + source file signature)
+//   int32    width, height (full-resolution image size)
+//   uint32   number of keypoints n, descriptor size d
+//   float32  n x 4 keypoints (x, y, scale, orientation)
+//   uint8    n x d descriptors
+//   char[4]  "END."
+// Files are written atomically (temporary + rename), so a killed run leaves no half file.
+#pragma once
+
+#include <string>
+
+#include "features/feature_set.h"
+
+namespace pgba {
+
+constexpr uint32_t kFeatureFileVersion = 1;
+
+void WriteFeatureFile(const std::string& path, const FeatureSet& features, const std::string& key);
+
+// Reads a feature file; `key` (optional) receives the stored key. A missing, truncated or
+// malformed file is an InputError naming the file and the problem.
+FeatureSet ReadFeatureFile(const std::string& path, std::string* key = nullptr);
+
+}  // namespace pgba

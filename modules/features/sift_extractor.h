@@ -1,0 +1,44 @@
+// SIFT detection and description with OpenCV (cv::SIFT), with the options a photogrammetric
+// front end needs: a cap on the number of features, RootSIFT (Arandjelovic & Zisserman 2012:
+// Hellinger kernel = L2 on sqrt of L1-normalised SIFT) and downscaling of very large images.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <string>
+
+#include "features/feature_set.h"
+
+namespace pgba {
+
+struct SiftOptions {
+  // Keep at most this many keypoints (the strongest responses); COLMAP's default.
+  int max_features = 8192;
+  // RootSIFT descriptors (better matching at no cost); false gives plain SIFT.
+  bool root_sift = true;
+  // Images whose larger side exceeds this many pixels are downscaled (INTER_AREA) before
+  // detection; keypoints are mapped back to full-resolution pixels. <= 0 disables.
+  int max_image_size = 3200;
+  // OpenCV SIFT thresholds; contrast is divided by the 3 layers per octave. Half OpenCV's
+  // 0.04: weakly textured objects (Middlebury temple: ~800 features per 640x480 image at
+  // 0.04) get twice the features and more verified pairs; textured images are capped by
+  // max_features anyway.
+  double contrast_threshold = 0.02;
+  double edge_threshold = 10.0;
+};
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(SiftOptions, max_features, root_sift, max_image_size,
+                                                contrast_threshold, edge_threshold)
+
+// Full-resolution pixels per detection pixel for an image of this size (1 if not downscaled).
+double DetectionScale(int width, int height, const SiftOptions& options);
+
+// Features of an 8-bit grayscale image (CV_8UC1). Deterministic (no randomness in SIFT).
+// Keypoints are sorted by decreasing response, ties by position, so the cache and the matcher
+// see the same order on every run.
+FeatureSet ExtractSift(const cv::Mat& gray, const SiftOptions& options);
+
+// A short string that changes whenever an option affecting the features changes; stored in
+// the feature cache so a re-run with other options recomputes instead of reusing.
+std::string SiftOptionsKey(const SiftOptions& options);
+
+}  // namespace pgba

@@ -1,0 +1,155 @@
+#include "matching/match_images.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <map>
+#include <set>
+
+#include "features/feature_file.h"
+#include "features/feature_index.h"
+#include "pgba/util/error.h"
+#include "pgba/util/logging.h"
+#include "pgba/util/progress.h"
+#include "pgba/util/timer.h"
+
+namespace pgba {
+namespace {
+
+// Pairs grouped into chunks whose images fit in `max_images` kd-forests: pairs are ordered
+// by (block of i, block of j) with blocks of max_images / 2 images, then cut greedily.
+std::vector<std::vector<ImagePair>> ChunkPairs(std::vector<ImagePair> pairs, int max_images) {
+  const uint32_t block = static_cast<uint32_t>(std::max(1, max_images / 2));
+  std::sort(pairs.begin(), pairs.end(), [&](const ImagePair& a, const ImagePair& b) {
+    const auto ka = std::make_tuple(a.first / block, a.second / block, a.first, a.second);
+    const auto kb = std::make_tuple(b.first / block, b.second / block, b.first, b.second);
+    return ka < kb;
+  });
+  std::vector<std::vector<ImagePair>> chunks;
+  std::set<uint32_t> images;
+  for (const ImagePair& p : pairs) {
+    const size_t extra = !images.count(p.first) + !images.count(p.second);
+    if (chunks.empty() || images.size() + extra > static_cast<size_t>(std::max(2, max_images))) {
+      chunks.emplace_back();
+      images.clear();
+    }
+    chunks.back().push_back(p);
+    images.insert(p.first);
+    images.insert(p.second);
+  }
+  return chunks;
+}
+
+// Number of tracks seen by both images of each pair.
+std::map<std::pair<uint32_t, uint32_t>, int> CoVisibleTracks(const Reconstruction& rec) {
+  std::map<std::pair<uint32_t, uint32_t>, int> count;
+  for (const auto& [id, p] : rec.points3D)
+    for (size_t a = 0; a < p.track.size(); ++a)
+      for (size_t b = a + 1; b < p.track.size(); ++b)
+        ++count[{std::min(p.track[a].image_id, p.track[b].image_id),
+                 std::max(p.track[a].image_id, p.track[b].image_id)}];
+  return count;
+}
+
+}  // namespace
+
+MatchingResult MatchImages(const std::string& workspace, const MatchingOptions& options) {
+  Timer timer;
+  const FeatureIndex index = ReadFeatureIndex(workspace);
+  const int n = static_cast<int>(index.images.size());
+  if (n < 2) ThrowInputError(FeaturesDir(workspace), 0, "fewer than two images with features");
+
+  // All features: keypoints are small; descriptors (128 B each) are needed by retrieval and
+  // to build the forests.
+  std::vector<FeatureSet> features(n);
+  tbb::parallel_for(0, n,
+                    [&](int i) { features[i] = ReadFeatureFile(FeatureFilePath(workspace, index.images[i].name)); });
+  std::vector<cv::Mat> descriptors(n);
+  for (int i = 0; i < n; ++i) descriptors[i] = features[i].descriptors;
+
+  MatchingResult result;
+  const std::vector<ImagePair> pairs = SelectPairs(descriptors, options.pairs);
+  result.num_pairs = pairs.size();
+  PGBA_LOG_INFO << "matching: " << n << " images, " << pairs.size() << " pairs (" << options.pairs.method << ")";
+
+  // Per-pair results in preallocated slots keyed by the pair's position in `pairs`.
+  std::map<ImagePair, size_t> slot_of;
+  for (size_t k = 0; k < pairs.size(); ++k) slot_of[pairs[k]] = k;
+  std::vector<std::optional<VerifiedPair>> verified(pairs.size());
+  std::vector<size_t> putative(pairs.size(), 0);
+
+  Timer match_timer;
+  ProgressBar progress("matching", pairs.size());
+  std::map<uint32_t, std::unique_ptr<DescriptorIndex>> forests;
+  for (const std::vector<ImagePair>& chunk : ChunkPairs(pairs, options.max_indexed_images)) {
+    std::set<uint32_t> needed;
+    for (const ImagePair& p : chunk) needed.insert(p.first), needed.insert(p.second);
+    for (auto it = forests.begin(); it != forests.end();)
+      it = needed.count(it->first) ? std::next(it) : forests.erase(it);
+    std::vector<uint32_t> to_build;
+    for (uint32_t i : needed)
+      if (!forests.count(i)) to_build.push_back(i);
+    std::vector<std::unique_ptr<DescriptorIndex>> built(to_build.size());
+    tbb::parallel_for(size_t(0), to_build.size(), [&](size_t k) {
+      const uint32_t i = to_build[k];
+      built[k] = std::make_unique<DescriptorIndex>(descriptors[i], options.descriptors, index.images[i].image_id);
+    });
+    for (size_t k = 0; k < to_build.size(); ++k) forests[to_build[k]] = std::move(built[k]);
+
+    tbb::parallel_for(size_t(0), chunk.size(), [&](size_t c) {
+      const auto [i, j] = chunk[c];
+      const size_t slot = slot_of.at(chunk[c]);
+      const auto matches = MatchDescriptors(*forests.at(i), *forests.at(j), options.descriptors);
+      putative[slot] = matches.size();
+      const IndexedImage& a = index.images[i];
+      const IndexedImage& b = index.images[j];
+      verified[slot] = VerifyPair(a.image_id, index.cameras.at(a.camera_id), features[i].keypoints, b.image_id,
+                                  index.cameras.at(b.camera_id), features[j].keypoints, matches, options.verification,
+                                  std::max(a.detection_scale, b.detection_scale));
+      progress.Increment();
+    });
+  }
+  progress.Finish();
+  forests.clear();
+  result.seconds_matching = match_timer.Seconds();
+
+  // Tracks over the verified inliers, in pair order.
+  std::vector<KeypointImage> images(n);
+  for (int i = 0; i < n; ++i) {
+    images[i].image_id = index.images[i].image_id;
+    images[i].name = index.images[i].name;
+    images[i].camera_id = index.images[i].camera_id;
+    for (const Keypoint& k : features[i].keypoints) images[i].keypoints.emplace_back(k.x, k.y);
+  }
+  std::vector<PairMatches> pair_matches;
+  for (size_t k = 0; k < pairs.size(); ++k) {
+    result.num_putative += putative[k];
+    if (!verified[k]) continue;
+    result.num_verified_matches += verified[k]->inlier_matches.size();
+    pair_matches.push_back(
+        {verified[k]->geometry.image_id1, verified[k]->geometry.image_id2, verified[k]->inlier_matches});
+  }
+  result.tracks =
+      BuildTracks(index.cameras, images, pair_matches, options.tracks, &result.track_stats, FeaturesDir(workspace));
+
+  const auto covisible = CoVisibleTracks(result.tracks);
+  for (size_t k = 0; k < pairs.size(); ++k) {
+    if (!verified[k]) continue;
+    TwoViewGeometry g = verified[k]->geometry;
+    const auto it = covisible.find({g.image_id1, g.image_id2});
+    g.num_tracks = it == covisible.end() ? 0 : it->second;
+    result.two_view_geometries.push_back(g);
+  }
+  for (const auto& [id, im] : result.tracks.images)
+    if (im.points2D.empty()) {
+      result.images_without_tracks.push_back(im.name);
+      PGBA_LOG_WARN << im.name << ": no verified match with any other image";
+    }
+  result.seconds = timer.Seconds();
+  PGBA_LOG_INFO << "matching: " << result.two_view_geometries.size() << "/" << pairs.size() << " pairs verified, "
+                << result.track_stats.num_tracks << " tracks (" << result.track_stats.num_conflicting
+                << " conflicting dropped), " << result.seconds << " s";
+  return result;
+}
+
+}  // namespace pgba

@@ -1,0 +1,51 @@
+// The matching stage: workspace features (from `pgba features`) -> verified tracks.
+//   1. pair selection (pair_selection.h),
+//   2. putative matches per pair (descriptor_matcher.h: FLANN, ratio test, mutual check),
+//   3. geometric verification per pair (two_view_verification.h: OpenGV 5-point RANSAC),
+//   4. tracks: union-find over the verified inliers (scene/track_builder.h).
+// The result is the tracks model `pgba init --tracks` reads (points3D at the origin) plus
+// the verified two-view geometries for the triplet stage.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "matching/descriptor_matcher.h"
+#include "matching/pair_selection.h"
+#include "matching/two_view_verification.h"
+#include "pgba/scene/reconstruction.h"
+#include "pgba/scene/track_builder.h"
+#include "pgba/scene/view_graph.h"
+
+namespace pgba {
+
+struct MatchingOptions {
+  PairSelectionOptions pairs;
+  DescriptorMatchOptions descriptors;
+  VerificationOptions verification;
+  TrackBuilderOptions tracks;
+  // Kd-forests held in memory at once (~5 MB each at 8192 features). Pairs are processed in
+  // blocks of images so that each forest is built about once per block it appears in.
+  int max_indexed_images = 100;
+};
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(MatchingOptions, pairs, descriptors, verification, tracks,
+                                                max_indexed_images)
+
+struct MatchingResult {
+  Reconstruction tracks;
+  std::vector<TwoViewGeometry> two_view_geometries;  // verified pairs, by (image_id1, image_id2)
+  TrackStats track_stats;
+  size_t num_pairs = 0;     // selected pairs
+  size_t num_putative = 0;  // putative matches over all pairs
+  size_t num_verified_matches = 0;
+  std::vector<std::string> images_without_tracks;
+  double seconds = 0.0;           // wall time of the stage
+  double seconds_matching = 0.0;  // wall time of descriptor matching + verification
+};
+
+// InputError if the workspace has no features (run `pgba features`), fewer than two
+// images, or an unreadable feature file. Deterministic whatever the number of threads.
+MatchingResult MatchImages(const std::string& workspace, const MatchingOptions& options);
+
+}  // namespace pgba

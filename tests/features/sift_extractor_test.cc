@@ -1,0 +1,143 @@
+// SIFT extraction: the downscaling path maps keypoints exactly back to full resolution,
+// RootSIFT descriptors have the Hellinger normalisation, the feature cap and the order
+// hold, and the cache file round-trips and rejects damage.
+#include "features/sift_extractor.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <opencv2/imgproc.hpp>
+
+#include "features/feature_file.h"
+#include "pgba/util/error.h"
+
+namespace pgba {
+namespace {
+namespace fs = std::filesystem;
+
+// A textured test image: smoothed noise plus a few discs and rectangles.
+cv::Mat TexturedImage(int w, int h, uint64_t seed) {
+  cv::Mat img(h, w, CV_8U);
+  cv::RNG rng(seed);
+  rng.fill(img, cv::RNG::UNIFORM, 0, 256);
+  cv::GaussianBlur(img, img, cv::Size(0, 0), 2.0);
+  for (int k = 0; k < 40; ++k) {
+    cv::circle(img, {rng.uniform(0, w), rng.uniform(0, h)}, rng.uniform(3, 20), cv::Scalar(rng.uniform(0, 256)), -1);
+    cv::rectangle(img, cv::Rect(rng.uniform(0, w), rng.uniform(0, h), rng.uniform(4, 30), rng.uniform(4, 30)),
+                  cv::Scalar(rng.uniform(0, 256)), -1);
+  }
+  return img;
+}
+
+TEST(SiftExtractor, DownscaledKeypointsAreInFullResolutionPixels) {
+  // An image and its exact 2x nearest-neighbour enlargement: INTER_AREA downscaling of the
+  // enlargement gives back the original bit for bit, so the keypoints found on the
+  // enlargement with max_image_size = original size must be the original's, scaled by 2
+  // about the pixel-corner origin (COLMAP convention: x_full = 2 x).
+  const cv::Mat small = TexturedImage(320, 240, 1);
+  cv::Mat big;
+  cv::resize(small, big, cv::Size(640, 480), 0, 0, cv::INTER_NEAREST);
+  SiftOptions opt;
+  opt.max_image_size = 0;
+  const FeatureSet fs_small = ExtractSift(small, opt);
+  opt.max_image_size = 320;
+  const FeatureSet fs_big = ExtractSift(big, opt);
+  ASSERT_GT(fs_small.size(), 100u);
+  ASSERT_EQ(fs_small.size(), fs_big.size());
+  EXPECT_EQ(fs_big.width, 640);
+  EXPECT_EQ(fs_big.height, 480);
+  EXPECT_DOUBLE_EQ(DetectionScale(640, 480, opt), 2.0);
+  for (size_t i = 0; i < fs_small.size(); ++i) {
+    EXPECT_NEAR(fs_big.keypoints[i].x, 2 * fs_small.keypoints[i].x, 1e-3);
+    EXPECT_NEAR(fs_big.keypoints[i].y, 2 * fs_small.keypoints[i].y, 1e-3);
+    EXPECT_NEAR(fs_big.keypoints[i].scale, 2 * fs_small.keypoints[i].scale, 1e-3);
+  }
+  EXPECT_EQ(cv::norm(fs_small.descriptors, fs_big.descriptors, cv::NORM_L1), 0.0);
+}
+
+TEST(SiftExtractor, PixelCentreConventionIsColmaps) {
+  // A bright blob centred on pixel (40, 30) in OpenCV's integer-centre convention is at
+  // (40.5, 30.5) in COLMAP's: the detector's strongest keypoint must sit there.
+  cv::Mat img(64, 80, CV_8U, cv::Scalar(0));
+  cv::circle(img, {40, 30}, 4, cv::Scalar(255), -1);
+  cv::GaussianBlur(img, img, cv::Size(0, 0), 1.5);
+  SiftOptions opt;
+  opt.max_image_size = 0;
+  const FeatureSet f = ExtractSift(img, opt);
+  ASSERT_GE(f.size(), 1u);
+  EXPECT_NEAR(f.keypoints[0].x, 40.5, 0.05);
+  EXPECT_NEAR(f.keypoints[0].y, 30.5, 0.05);
+}
+
+TEST(SiftExtractor, RootSiftIsHellingerNormalisedAndCapped) {
+  const cv::Mat img = TexturedImage(400, 300, 2);
+  SiftOptions opt;
+  opt.max_features = 150;
+  opt.root_sift = true;
+  const FeatureSet root = ExtractSift(img, opt);
+  opt.root_sift = false;
+  const FeatureSet plain = ExtractSift(img, opt);
+  ASSERT_EQ(root.size(), 150u);
+  ASSERT_EQ(plain.size(), 150u);
+  for (size_t i = 0; i < root.size(); ++i) {
+    // Same keypoints, only the descriptor normalisation differs.
+    EXPECT_EQ(root.keypoints[i].x, plain.keypoints[i].x);
+    // RootSIFT = sqrt(L1-normalised SIFT): unit L2 norm (on the 512 scale, up to rounding
+    // and saturation at 255).
+    double sq = 0, l1 = 0, root_sq = 0;
+    for (int k = 0; k < kSiftDescriptorSize; ++k) {
+      const double r = root.descriptors.at<uint8_t>(i, k) / 512.0;
+      root_sq += r * r;
+      l1 += plain.descriptors.at<uint8_t>(i, k);
+      sq += std::pow(plain.descriptors.at<uint8_t>(i, k), 2);
+    }
+    EXPECT_NEAR(root_sq, 1.0, 0.03) << i;
+    // Plain SIFT is L2-normalised to 512 (then clipped), not L1: its sqrt-L1 norm differs.
+    EXPECT_NEAR(std::sqrt(sq), 512.0, 30.0) << i;
+    for (int k = 0; k < kSiftDescriptorSize; ++k) {
+      const double expected = 512.0 * std::sqrt(plain.descriptors.at<uint8_t>(i, k) / l1);
+      EXPECT_NEAR(root.descriptors.at<uint8_t>(i, k), std::min(255.0, expected), 4.0);
+    }
+  }
+  // Strongest first: max_features keeps a prefix of the uncapped order.
+  opt.max_features = 60;
+  const FeatureSet fewer = ExtractSift(img, opt);
+  ASSERT_EQ(fewer.size(), 60u);
+  for (size_t i = 0; i < fewer.size(); ++i) EXPECT_EQ(fewer.keypoints[i].x, plain.keypoints[i].x);
+}
+
+TEST(FeatureFile, RoundTripAndDamage) {
+  const FeatureSet f = ExtractSift(TexturedImage(200, 150, 3), SiftOptions{});
+  ASSERT_GT(f.size(), 10u);
+  const fs::path dir = fs::temp_directory_path() / ("pgba_featfile_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string path = (dir / "a.bin").string();
+  WriteFeatureFile(path, f, "key-1");
+  std::string key;
+  const FeatureSet g = ReadFeatureFile(path, &key);
+  EXPECT_EQ(key, "key-1");
+  EXPECT_EQ(g.width, 200);
+  EXPECT_EQ(g.height, 150);
+  ASSERT_EQ(g.size(), f.size());
+  for (size_t i = 0; i < f.size(); ++i) {
+    EXPECT_EQ(g.keypoints[i].x, f.keypoints[i].x);
+    EXPECT_EQ(g.keypoints[i].orientation, f.keypoints[i].orientation);
+  }
+  EXPECT_EQ(cv::norm(g.descriptors, f.descriptors, cv::NORM_L1), 0.0);
+
+  // Truncated: every shorter prefix is an InputError, never a crash.
+  const auto size = fs::file_size(path);
+  for (auto cut : {size - 1, size / 2, decltype(size)(20), decltype(size)(3)}) {
+    fs::copy_file(path, dir / "t.bin", fs::copy_options::overwrite_existing);
+    fs::resize_file(dir / "t.bin", cut);
+    EXPECT_THROW(ReadFeatureFile((dir / "t.bin").string()), InputError) << cut;
+  }
+  std::ofstream(dir / "junk.bin") << "not a feature file at all";
+  EXPECT_THROW(ReadFeatureFile((dir / "junk.bin").string()), InputError);
+  EXPECT_THROW(ReadFeatureFile((dir / "missing.bin").string()), InputError);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace pgba

@@ -1,0 +1,245 @@
+// COLMAP database import against a database written here with COLMAP's schema (the tables
+// and blob layouts of COLMAP's database.cc), so the expected content is known exactly.
+#include "pgba/io/colmap_database.h"
+
+#include <gtest/gtest.h>
+#include <sqlite3.h>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <set>
+
+#include "pgba/util/error.h"
+
+namespace pgba {
+namespace {
+namespace fs = std::filesystem;
+
+// COLMAP 3.8's schema (database.cc), verbatim in structure.
+const char* kSchema = R"(
+CREATE TABLE cameras (camera_id INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, model INTEGER NOT NULL,
+  width INTEGER NOT NULL, height INTEGER NOT NULL, params BLOB, prior_focal_length INTEGER NOT NULL);
+CREATE TABLE images (image_id INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, name TEXT NOT NULL UNIQUE,
+  camera_id INTEGER NOT NULL, prior_qw REAL, prior_qx REAL, prior_qy REAL, prior_qz REAL, prior_tx REAL,
+  prior_ty REAL, prior_tz REAL, CONSTRAINT image_id_check CHECK(image_id >= 0 and image_id < 2147483647),
+  FOREIGN KEY(camera_id) REFERENCES cameras(camera_id));
+CREATE TABLE keypoints (image_id INTEGER PRIMARY KEY NOT NULL, rows INTEGER NOT NULL, cols INTEGER NOT NULL,
+  data BLOB, FOREIGN KEY(image_id) REFERENCES images(image_id) ON DELETE CASCADE);
+CREATE TABLE descriptors (image_id INTEGER PRIMARY KEY NOT NULL, rows INTEGER NOT NULL, cols INTEGER NOT NULL,
+  data BLOB, FOREIGN KEY(image_id) REFERENCES images(image_id) ON DELETE CASCADE);
+CREATE TABLE matches (pair_id INTEGER PRIMARY KEY NOT NULL, rows INTEGER NOT NULL, cols INTEGER NOT NULL,
+  data BLOB);
+CREATE TABLE two_view_geometries (pair_id INTEGER PRIMARY KEY NOT NULL, rows INTEGER NOT NULL,
+  cols INTEGER NOT NULL, data BLOB, config INTEGER NOT NULL, F BLOB, E BLOB, H BLOB, qvec BLOB, tvec BLOB);
+)";
+
+class DbWriter {
+ public:
+  explicit DbWriter(const std::string& path) {
+    fs::remove(path);
+    EXPECT_EQ(sqlite3_open(path.c_str(), &db_), SQLITE_OK);
+    EXPECT_EQ(sqlite3_exec(db_, kSchema, nullptr, nullptr, nullptr), SQLITE_OK) << sqlite3_errmsg(db_);
+  }
+  ~DbWriter() { sqlite3_close(db_); }
+
+  void Camera(int id, int model, int w, int h, const std::vector<double>& params) {
+    Exec("INSERT INTO cameras VALUES (?, ?, ?, ?, ?, 0)", [&](sqlite3_stmt* s) {
+      sqlite3_bind_int(s, 1, id);
+      sqlite3_bind_int(s, 2, model);
+      sqlite3_bind_int(s, 3, w);
+      sqlite3_bind_int(s, 4, h);
+      sqlite3_bind_blob(s, 5, params.data(), static_cast<int>(params.size() * sizeof(double)), SQLITE_TRANSIENT);
+    });
+  }
+  void Image(int id, const std::string& name, int camera_id) {
+    Exec("INSERT INTO images (image_id, name, camera_id) VALUES (?, ?, ?)", [&](sqlite3_stmt* s) {
+      sqlite3_bind_int(s, 1, id);
+      sqlite3_bind_text(s, 2, name.c_str(), -1, SQLITE_TRANSIENT);
+      sqlite3_bind_int(s, 3, camera_id);
+    });
+  }
+  // rows x cols float32 (COLMAP writes 6 columns: x y a11 a12 a21 a22).
+  void Keypoints(int image_id, int rows, int cols, const std::vector<float>& data) {
+    Exec("INSERT INTO keypoints VALUES (?, ?, ?, ?)", [&](sqlite3_stmt* s) {
+      sqlite3_bind_int(s, 1, image_id);
+      sqlite3_bind_int(s, 2, rows);
+      sqlite3_bind_int(s, 3, cols);
+      sqlite3_bind_blob(s, 4, data.data(), static_cast<int>(data.size() * sizeof(float)), SQLITE_TRANSIENT);
+    });
+  }
+  void TwoView(int id1, int id2, const std::vector<std::pair<uint32_t, uint32_t>>& m, int config) {
+    std::vector<uint32_t> blob;
+    for (auto [a, b] : m) blob.push_back(a), blob.push_back(b);
+    const int64_t pair_id = int64_t(2147483647) * id1 + id2;  // COLMAP's ImagePairToPairId
+    Exec("INSERT INTO two_view_geometries (pair_id, rows, cols, data, config) VALUES (?, ?, 2, ?, ?)",
+         [&](sqlite3_stmt* s) {
+           sqlite3_bind_int64(s, 1, pair_id);
+           sqlite3_bind_int(s, 2, static_cast<int>(m.size()));
+           sqlite3_bind_blob(s, 3, blob.data(), static_cast<int>(blob.size() * 4), SQLITE_TRANSIENT);
+           sqlite3_bind_int(s, 4, config);
+         });
+  }
+
+ private:
+  template <typename F>
+  void Exec(const char* sql, F bind) {
+    sqlite3_stmt* s = nullptr;
+    ASSERT_EQ(sqlite3_prepare_v2(db_, sql, -1, &s, nullptr), SQLITE_OK) << sqlite3_errmsg(db_);
+    bind(s);
+    EXPECT_EQ(sqlite3_step(s), SQLITE_DONE) << sqlite3_errmsg(db_);
+    sqlite3_finalize(s);
+  }
+  sqlite3* db_ = nullptr;
+};
+
+std::string TempPath(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("pgba_colmap_db_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  return (dir / name).string();
+}
+
+// Three images of 5 keypoints each; keypoint k of image i sits at (100 i + k + 0.25, 7 k).
+std::vector<float> KeypointBlob(int i, int cols) {
+  std::vector<float> d;
+  for (int k = 0; k < 5; ++k) {
+    d.push_back(100.f * i + k + 0.25f);
+    d.push_back(7.f * k);
+    for (int c = 2; c < cols; ++c) d.push_back(-1.f);  // affine shape columns, ignored
+  }
+  return d;
+}
+
+TEST(ColmapDatabase, ImportMatchesWhatWasWritten) {
+  const std::string path = TempPath("ok.db");
+  {
+    DbWriter w(path);
+    w.Camera(1, 1, 640, 480, {500, 510, 320, 240});   // PINHOLE
+    w.Camera(2, 2, 800, 600, {600, 400, 300, 0.01});  // SIMPLE_RADIAL
+    w.Image(1, "a.jpg", 1);
+    w.Image(2, "b.jpg", 1);
+    w.Image(5, "c.jpg", 2);
+    w.Keypoints(1, 5, 6, KeypointBlob(1, 6));
+    w.Keypoints(2, 5, 2, KeypointBlob(2, 2));
+    w.Keypoints(5, 5, 4, KeypointBlob(5, 4));
+    // Tracks: X = a0 b1 c2 (seen by all three pairs), Y = a3 b3, Z = b4 c4.
+    w.TwoView(1, 2, {{0, 1}, {3, 3}}, 2);
+    w.TwoView(2, 5, {{1, 2}, {4, 4}}, 3);
+    w.TwoView(1, 5, {{0, 2}}, 4);
+  }
+  ColmapDatabase db = ReadColmapDatabase(path);
+  ASSERT_EQ(db.cameras.size(), 2u);
+  EXPECT_EQ(db.cameras.at(1).model, CameraModel::kPinhole);
+  EXPECT_EQ(db.cameras.at(2).model, CameraModel::kSimpleRadial);
+  EXPECT_EQ(db.cameras.at(2).params, (std::vector<double>{600, 400, 300, 0.01}));
+  EXPECT_EQ(db.cameras.at(1).width, 640);
+  ASSERT_EQ(db.images.size(), 3u);
+  EXPECT_EQ(db.images[2].image_id, 5u);
+  EXPECT_EQ(db.images[2].name, "c.jpg");
+  EXPECT_EQ(db.images[2].camera_id, 2u);
+  for (const KeypointImage& im : db.images) {
+    ASSERT_EQ(im.keypoints.size(), 5u);
+    for (int k = 0; k < 5; ++k) {
+      EXPECT_EQ(im.keypoints[k].x(), 100.f * im.image_id + k + 0.25f);
+      EXPECT_EQ(im.keypoints[k].y(), 7.f * k);
+    }
+  }
+  ASSERT_EQ(db.two_view_geometries.size(), 3u);
+  EXPECT_EQ(db.two_view_geometries[1].image_id1, 1u);  // ordered by pair id: (1,2), (1,5), (2,5)
+  EXPECT_EQ(db.two_view_geometries[1].image_id2, 5u);
+  EXPECT_EQ(db.two_view_geometries[2].config, 3);
+
+  TrackStats stats;
+  const Reconstruction rec = TracksFromColmapDatabase(db, {}, &stats);
+  EXPECT_EQ(rec.CheckConsistency(), "");
+  ASSERT_EQ(rec.points3D.size(), 3u);  // X = a0 b1 c2, Y = a3 b3, Z = b4 c4
+  std::set<std::vector<std::pair<uint32_t, double>>> tracks;
+  for (const auto& [id, p] : rec.points3D) {
+    std::vector<std::pair<uint32_t, double>> t;
+    for (const TrackElement& e : p.track)
+      t.emplace_back(e.image_id, rec.images.at(e.image_id).points2D[e.point2D_idx].xy.x());
+    tracks.insert(t);
+  }
+  const std::set<std::vector<std::pair<uint32_t, double>>> expected = {
+      {{1, 100.25}, {2, 201.25}, {5, 502.25}}, {{1, 103.25}, {2, 203.25}}, {{2, 204.25}, {5, 504.25}}};
+  EXPECT_TRUE(tracks == expected);
+  EXPECT_EQ(rec.images.at(5).name, "c.jpg");
+  EXPECT_EQ(rec.CameraOf(rec.images.at(5)).camera_id, 2u);
+}
+
+TEST(ColmapDatabase, UnverifiedConfigsAreIgnored) {
+  const std::string path = TempPath("configs.db");
+  {
+    DbWriter w(path);
+    w.Camera(1, 0, 100, 100, {90, 50, 50});
+    for (int i = 1; i <= 4; ++i) {
+      w.Image(i, "im" + std::to_string(i), 1);
+      w.Keypoints(i, 5, 2, KeypointBlob(i, 2));
+    }
+    w.TwoView(1, 2, {{0, 0}}, 2);  // CALIBRATED: kept
+    w.TwoView(1, 3, {{1, 1}}, 1);  // DEGENERATE
+    w.TwoView(1, 4, {{2, 2}}, 7);  // WATERMARK
+    w.TwoView(2, 3, {{3, 3}}, 0);  // UNDEFINED
+    w.TwoView(2, 4, {{4, 4}}, 8);  // MULTIPLE
+    w.TwoView(3, 4, {{0, 0}}, 6);  // PLANAR_OR_PANORAMIC: kept
+  }
+  const Reconstruction rec = TracksFromColmapDatabase(ReadColmapDatabase(path), {});
+  ASSERT_EQ(rec.points3D.size(), 2u);
+  EXPECT_EQ(rec.points3D.at(1).track[0].image_id, 1u);
+  EXPECT_EQ(rec.points3D.at(1).track[1].image_id, 2u);
+  EXPECT_EQ(rec.points3D.at(2).track[0].image_id, 3u);
+  EXPECT_EQ(rec.images.size(), 4u);
+}
+
+TEST(ColmapDatabase, BadInputIsAnInputErrorNamingTheFile) {
+  const std::string text = TempPath("not_a_db.db");
+  std::ofstream(text) << "this is not sqlite\n";
+  try {
+    ReadColmapDatabase(text);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(ReadColmapDatabase(TempPath("missing.db")), InputError);
+
+  const std::string fisheye = TempPath("fisheye.db");
+  {
+    DbWriter w(fisheye);
+    w.Camera(1, 5, 100, 100, {90, 90, 50, 50, 0, 0, 0, 0});  // OPENCV_FISHEYE
+  }
+  EXPECT_THROW(ReadColmapDatabase(fisheye), InputError);
+
+  const std::string short_blob = TempPath("short.db");
+  {
+    DbWriter w(short_blob);
+    w.Camera(1, 1, 100, 100, {90, 90, 50, 50});
+    w.Image(1, "a", 1);
+    w.Keypoints(1, 5, 2, std::vector<float>(9, 0.f));  // 5 x 2 needs 10 floats
+  }
+  EXPECT_THROW(ReadColmapDatabase(short_blob), InputError);
+
+  const std::string bad_match = TempPath("bad_match.db");
+  {
+    DbWriter w(bad_match);
+    w.Camera(1, 1, 100, 100, {90, 90, 50, 50});
+    w.Image(1, "a", 1);
+    w.Image(2, "b", 1);
+    w.Keypoints(1, 5, 2, KeypointBlob(1, 2));
+    w.Keypoints(2, 5, 2, KeypointBlob(2, 2));
+    w.TwoView(1, 2, {{0, 9}}, 2);  // feature 9 does not exist
+  }
+  EXPECT_THROW(TracksFromColmapDatabase(ReadColmapDatabase(bad_match), {}), InputError);
+
+  const std::string empty_schema = TempPath("empty.db");
+  {
+    sqlite3* db = nullptr;
+    fs::remove(empty_schema);
+    sqlite3_open(empty_schema.c_str(), &db);
+    sqlite3_exec(db, "CREATE TABLE foo (x INTEGER);", nullptr, nullptr, nullptr);
+    sqlite3_close(db);
+  }
+  EXPECT_THROW(ReadColmapDatabase(empty_schema), InputError);
+}
+
+}  // namespace
+}  // namespace pgba
