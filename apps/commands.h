@@ -18,5 +18,7 @@ void RegisterEvaluate(CLI::App& app);
 void RegisterInit(CLI::App& app);
 void RegisterFeatures(CLI::App& app);
 void RegisterMatch(CLI::App& app);
+void RegisterReconstruct(CLI::App& app);
+void RegisterBenchmark(CLI::App& app);
 
 }  // namespace pgba::app

@@ -29,6 +29,8 @@ int main(int argc, char** argv) {
   app::RegisterInit(app);
   app::RegisterFeatures(app);
   app::RegisterMatch(app);
+  app::RegisterReconstruct(app);
+  app::RegisterBenchmark(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -20,4 +20,11 @@ double PeakRssMb() {
   return 0.0;
 }
 
+bool ResetPeakRss() {
+  std::ofstream out("/proc/self/clear_refs");
+  out << "5";
+  out.flush();
+  return static_cast<bool>(out);
+}
+
 }  // namespace pgba

@@ -20,4 +20,9 @@ class Timer {
 // Peak resident set size of this process so far, in MiB (VmHWM of /proc/self/status).
 double PeakRssMb();
 
+// Resets the peak (VmHWM) to the current resident size, so that the next PeakRssMb()
+// measures one stage alone (Linux /proc/self/clear_refs, value 5). Returns false where the
+// kernel does not support it; PeakRssMb() then stays the process-wide peak.
+bool ResetPeakRss();
+
 }  // namespace pgba

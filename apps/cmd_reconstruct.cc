@@ -1,0 +1,44 @@
+// pgba reconstruct --tracks INPUT --out OUT [--config F]
+//
+// From tracks (a COLMAP text model whose poses and points are ignored) to the final poses:
+// global initialisation, local hessian BA per triplet, pointless global BA. Writes
+// OUT/sparse/ (COLMAP text model), OUT/points.ply, OUT/report.json and the workspace files
+// of `init` (OUT/pairs.json, OUT/triplets.json, OUT/init/).
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "apps/commands.h"
+#include "mapper/reconstruction_pipeline.h"
+#include "pgba/io/colmap_text.h"
+#include "pgba/util/logging.h"
+
+namespace pgba::app {
+
+void RegisterReconstruct(CLI::App& app) {
+  struct Args {
+    std::string tracks, out, config;
+  };
+  auto args = std::make_shared<Args>();
+  CLI::App* sub =
+      app.add_subcommand("reconstruct", "Tracks -> initial poses -> local hessians -> pointless global BA");
+  sub->add_option("--tracks", args->tracks, "COLMAP text model holding the observations and tracks")->required();
+  sub->add_option("--out", args->out, "Output directory")->required();
+  sub->add_option("--config", args->config, "JSON config (sections of init plus local_hessian, global_ba)");
+
+  AddCommand(app, sub, [args] {
+    const ReconstructionOptions options = LoadReconstructionOptions(args->config);
+    const Reconstruction tracks = ReadColmapText(args->tracks);
+    Report report;
+    report["command"] = "reconstruct";
+    report["tracks"] = args->tracks;
+    const ReconstructionOutput result = Reconstruct(tracks, options, &report);
+    WriteReconstruction(args->out, tracks, result);
+    report.Write((std::filesystem::path(args->out) / "report.json").string());
+    PGBA_LOG_INFO << "wrote " << args->out << "/{sparse/, points.ply, report.json}: " << result.refined.poses.size()
+                  << " / " << tracks.images.size() << " images, " << result.model.points3D.size() << " points";
+    return 0;
+  });
+}
+
+}  // namespace pgba::app

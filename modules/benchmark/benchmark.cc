@@ -1,0 +1,248 @@
+#include "benchmark/benchmark.h"
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "benchmark/svg_plot.h"
+#include "pgba/scene/triangulate_model.h"
+#include "pgba/util/error.h"
+#include "pgba/util/logging.h"
+
+namespace pgba {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+double SigmaOrNaN(const SigmaResult& s) { return s.Computable() ? s.rms : kNaN; }
+
+MethodOutcome RunMethod(RefinementMethod method, const Reconstruction& tracks, const GlobalMapperResult& init,
+                        const PreparedHessians* hessians, const Reconstruction* gt,
+                        const std::vector<LoopCorrespondence>* loops, const BenchmarkOptions& options) {
+  MethodOutcome m;
+  m.refinement =
+      RefinePoses(method, tracks, init.init.poses, init.init.triplets, hessians, options.refinement, options.convergence);
+  m.model = TriangulateModel(tracks, m.refinement.poses);
+  m.metrics = Evaluate(m.model, tracks, gt, loops, options.evaluation);
+  for (const auto& poses : m.refinement.history)
+    m.convergence.push_back(SigmaOrNaN(EvaluateSigma(tracks, poses, options.evaluation.sigma)));
+  m.refinement.history.clear();  // poses per iteration are not needed past the curve
+  return m;
+}
+
+// Final sigma of pointless BA and Aver_BA on an initialisation with `fraction` of the
+// relative rotations corrupted.
+SweepPoint RunSweepPoint(const Reconstruction& tracks, double fraction, const BenchmarkOptions& options) {
+  SweepPoint p;
+  p.fraction = fraction;
+  p.sigma_pointless = p.sigma_averaging = kNaN;
+  GlobalMapperOptions mapper = options.mapper;
+  mapper.global_init.outliers.fraction = fraction;
+  mapper.global_init.max_triplet_rotation_error_deg = 0.0;  // the adjustment faces the outliers
+  try {
+    Report scratch;
+    const GlobalMapperResult init = RunGlobalMapper(tracks, mapper, &scratch);
+    p.pairs_corrupted = init.init.stats.pairs_corrupted;
+    p.triplets_corrupted = init.init.stats.triplets_corrupted;
+    const PreparedHessians h = PrepareLocalHessians(tracks, init.init.triplets, options.refinement.local_hessian);
+    for (RefinementMethod method : {RefinementMethod::kPointless, RefinementMethod::kAveraging}) {
+      const RefinementResult r =
+          RefinePoses(method, tracks, init.init.poses, init.init.triplets, &h, options.refinement, false);
+      const double sigma = SigmaOrNaN(EvaluateSigma(tracks, r.poses, options.evaluation.sigma));
+      (method == RefinementMethod::kPointless ? p.sigma_pointless : p.sigma_averaging) = sigma;
+    }
+  } catch (const std::exception& e) {
+    p.error = e.what();
+    PGBA_LOG_WARN << "outlier sweep at " << fraction << ": " << e.what();
+  }
+  return p;
+}
+
+nlohmann::json NumberOrNull(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+}  // namespace
+
+BenchmarkResult RunBenchmark(const Reconstruction& tracks, const GlobalMapperResult& init, const Reconstruction* gt,
+                             const std::vector<LoopCorrespondence>* loops, const BenchmarkOptions& options) {
+  BenchmarkResult result;
+  result.init_metrics = Evaluate(TriangulateModel(tracks, init.init.poses), tracks, gt, loops, options.evaluation);
+  const PreparedHessians hessians =
+      PrepareLocalHessians(tracks, init.init.triplets, options.refinement.local_hessian);
+  for (RefinementMethod method : kAllRefinementMethods)
+    result.methods.push_back(RunMethod(method, tracks, init, &hessians, gt, loops, options));
+  for (double f : options.outlier_sweep) result.sweep.push_back(RunSweepPoint(tracks, f, options));
+  return result;
+}
+
+nlohmann::json BenchmarkResult::ToJson() const {
+  nlohmann::json j;
+  j["init"] = init_metrics.ToJson();
+  const double sigma_init = SigmaOrNaN(init_metrics.sigma);
+  for (const MethodOutcome& m : methods) {
+    nlohmann::json e = m.metrics.ToJson();
+    const RefinementResult& r = m.refinement;
+    e["sigma_init"] = NumberOrNull(sigma_init);
+    e["sigma_final"] = NumberOrNull(SigmaOrNaN(m.metrics.sigma));
+    e["params"] = r.num_params;
+    e["iterations"] = r.iterations;
+    e["adjust_seconds"] = r.adjust_seconds;
+    e["prepare_seconds"] = r.prepare_seconds;
+    e["peak_rss_mb"] = r.peak_rss_mb;
+    e["images_excluded"] = r.excluded_images.size();
+    e["convergence"] = nlohmann::json::array();
+    for (double s : m.convergence) e["convergence"].push_back(NumberOrNull(s));
+    e["details"]["method"] = r.details;
+    j["methods"][RefinementMethodName(r.method)] = e;
+  }
+  if (!sweep.empty()) {
+    j["outlier_sweep"] = nlohmann::json::array();
+    for (const SweepPoint& p : sweep) {
+      nlohmann::json e = {{"fraction", p.fraction},
+                          {"pairs_corrupted", p.pairs_corrupted},
+                          {"triplets_corrupted", p.triplets_corrupted},
+                          {"sigma_final_pointless", NumberOrNull(p.sigma_pointless)},
+                          {"sigma_final_averaging", NumberOrNull(p.sigma_averaging)}};
+      if (!p.error.empty()) e["error"] = p.error;
+      j["outlier_sweep"].push_back(e);
+    }
+  }
+  return j;
+}
+
+namespace {
+
+const char* DisplayName(RefinementMethod m) {
+  switch (m) {
+    case RefinementMethod::kPointless:
+      return "Ours_BA (pointless)";
+    case RefinementMethod::kPointBased:
+      return "Point-based BA";
+    case RefinementMethod::kAveraging:
+      return "Aver_BA";
+  }
+  return "?";
+}
+
+std::string Fmt(const char* format, double v) {
+  if (!std::isfinite(v)) return "n/a";
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), format, v);
+  return buf;
+}
+
+}  // namespace
+
+void PrintBenchmarkTables(const BenchmarkResult& result, std::ostream& out) {
+  const double sigma_init = SigmaOrNaN(result.init_metrics.sigma);
+  char line[512];
+  out << "\nTable 1 (reprojection errors, px; params = unknowns of the adjustment)\n";
+  std::snprintf(line, sizeof(line), "%-22s %10s %10s %10s %6s %11s %11s %9s\n", "method", "sigma_init",
+                "sigma_final", "params", "iters", "adjust_s", "prepare_s", "rss_MB");
+  out << line;
+  for (const MethodOutcome& m : result.methods) {
+    const RefinementResult& r = m.refinement;
+    std::snprintf(line, sizeof(line), "%-22s %10s %10s %10d %6d %11.4f %11.4f %9.1f\n", DisplayName(r.method),
+                  Fmt("%.4f", sigma_init).c_str(), Fmt("%.4f", SigmaOrNaN(m.metrics.sigma)).c_str(), r.num_params,
+                  r.iterations, r.adjust_seconds, r.prepare_seconds, r.peak_rss_mb);
+    out << line;
+  }
+  const bool has_loop = result.init_metrics.loop && result.init_metrics.loop->Computable();
+  if (has_loop) {
+    out << "\nTable 2 (loop-closure error on withheld correspondences, px)\n";
+    std::snprintf(line, sizeof(line), "%-22s %12s %12s %10s\n", "method", "err_loop_rms", "err_loop_med", "params");
+    out << line;
+    std::snprintf(line, sizeof(line), "%-22s %12s %12s %10s\n", "initial poses",
+                  Fmt("%.3f", result.init_metrics.loop->rms).c_str(),
+                  Fmt("%.3f", result.init_metrics.loop->median).c_str(), "-");
+    out << line;
+    for (const MethodOutcome& m : result.methods) {
+      const bool ok = m.metrics.loop && m.metrics.loop->Computable();
+      std::snprintf(line, sizeof(line), "%-22s %12s %12s %10d\n", DisplayName(m.refinement.method),
+                    Fmt("%.3f", ok ? m.metrics.loop->rms : kNaN).c_str(),
+                    Fmt("%.3f", ok ? m.metrics.loop->median : kNaN).c_str(), m.refinement.num_params);
+      out << line;
+    }
+  }
+  if (result.init_metrics.ground_truth && result.init_metrics.ground_truth->ok) {
+    out << "\nGround truth (after a similarity alignment of the centres)\n";
+    std::snprintf(line, sizeof(line), "%-22s %12s %12s %14s %10s\n", "method", "rot_med_deg", "rot_max_deg",
+                  "centre_med_rel", "images");
+    out << line;
+    auto row = [&](const char* name, const EvaluationMetrics& e) {
+      const bool ok = e.ground_truth && e.ground_truth->ok;
+      std::snprintf(line, sizeof(line), "%-22s %12s %12s %14s %4zu / %-4zu\n", name,
+                    Fmt("%.5f", ok ? e.ground_truth->rot_err_deg_median : kNaN).c_str(),
+                    Fmt("%.5f", ok ? e.ground_truth->rot_err_deg_max : kNaN).c_str(),
+                    Fmt("%.3e", ok ? e.ground_truth->center_err_rel_median : kNaN).c_str(), e.images_registered,
+                    e.images_input);
+      out << line;
+    };
+    row("initial poses", result.init_metrics);
+    for (const MethodOutcome& m : result.methods) row(DisplayName(m.refinement.method), m.metrics);
+  }
+  const MethodOutcome* pl = nullptr;
+  const MethodOutcome* pb = nullptr;
+  for (const MethodOutcome& m : result.methods) {
+    if (m.refinement.method == RefinementMethod::kPointless) pl = &m;
+    if (m.refinement.method == RefinementMethod::kPointBased) pb = &m;
+  }
+  if (pl && pb) {
+    const double sp = SigmaOrNaN(pl->metrics.sigma), sb = SigmaOrNaN(pb->metrics.sigma);
+    out << "\npointless / point-based: sigma " << Fmt("%.4f", sp / sb) << ", params "
+        << Fmt("%.3f", static_cast<double>(pl->refinement.num_params) / pb->refinement.num_params)
+        << ", adjustment time " << Fmt("%.3f", pl->refinement.adjust_seconds / pb->refinement.adjust_seconds)
+        << ", adjustment + preparation time "
+        << Fmt("%.3f", (pl->refinement.adjust_seconds + pl->refinement.prepare_seconds) /
+                           (pb->refinement.adjust_seconds + pb->refinement.prepare_seconds))
+        << "\n";
+  }
+  if (!result.sweep.empty()) {
+    out << "\nOutlier sweep (final sigma, px)\n";
+    std::snprintf(line, sizeof(line), "%-10s %8s %9s %12s %12s\n", "fraction", "pairs", "triplets", "pointless",
+                  "averaging");
+    out << line;
+    for (const SweepPoint& p : result.sweep) {
+      std::snprintf(line, sizeof(line), "%-10.3f %8d %9d %12s %12s %s\n", p.fraction, p.pairs_corrupted,
+                    p.triplets_corrupted, Fmt("%.4f", p.sigma_pointless).c_str(),
+                    Fmt("%.4f", p.sigma_averaging).c_str(), p.error.c_str());
+      out << line;
+    }
+  }
+}
+
+std::string ConvergencePlot(const BenchmarkResult& result) {
+  std::vector<PlotSeries> series;
+  for (const MethodOutcome& m : result.methods) {
+    PlotSeries s;
+    s.name = DisplayName(m.refinement.method);
+    for (size_t i = 0; i < m.convergence.size(); ++i) {
+      s.x.push_back(static_cast<double>(i));
+      s.y.push_back(m.convergence[i]);
+    }
+    series.push_back(s);
+  }
+  PlotOptions o;
+  o.title = "Convergence: sigma per iteration (paper Figure 3)";
+  o.x_label = "iteration";
+  o.y_label = "sigma (px)";
+  o.log_y = true;
+  return LinePlotSvg(series, o);
+}
+
+std::string OutlierSweepPlot(const BenchmarkResult& result) {
+  PlotSeries pl{"Ours_BA (pointless)", {}, {}}, av{"Aver_BA", {}, {}};
+  for (const SweepPoint& p : result.sweep) {
+    pl.x.push_back(100.0 * p.fraction);
+    pl.y.push_back(p.sigma_pointless);
+    av.x.push_back(100.0 * p.fraction);
+    av.y.push_back(p.sigma_averaging);
+  }
+  PlotOptions o;
+  o.title = "Sensitivity to relative-rotation outliers (paper Figure 4)";
+  o.x_label = "outliers (% of relative rotations)";
+  o.y_label = "final sigma (px)";
+  o.log_y = true;
+  return LinePlotSvg({pl, av}, o);
+}
+
+}  // namespace pgba

@@ -1,0 +1,128 @@
+#include "benchmark/svg_plot.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <sstream>
+
+namespace pgba {
+namespace {
+
+const char* kColors[] = {"#d62728", "#1f77b4", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b"};
+
+std::string Escape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    if (c == '<') out += "&lt;";
+    else if (c == '>') out += "&gt;";
+    else if (c == '&') out += "&amp;";
+    else out += c;
+  }
+  return out;
+}
+
+std::string Num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.4g", v);
+  return buf;
+}
+
+// "Nice" linear ticks covering [lo, hi].
+std::vector<double> LinearTicks(double lo, double hi) {
+  const double span = std::max(hi - lo, 1e-12);
+  const double raw = span / 5.0;
+  const double mag = std::pow(10.0, std::floor(std::log10(raw)));
+  double step = mag;
+  for (double m : {1.0, 2.0, 5.0, 10.0})
+    if (m * mag >= raw) {
+      step = m * mag;
+      break;
+    }
+  std::vector<double> ticks;
+  for (double t = std::ceil(lo / step) * step; t <= hi + 1e-9 * span; t += step) ticks.push_back(t);
+  return ticks;
+}
+
+}  // namespace
+
+std::string LinePlotSvg(const std::vector<PlotSeries>& series, const PlotOptions& o) {
+  auto usable = [&](double y) { return std::isfinite(y) && (!o.log_y || y > 0); };
+  double xmin = std::numeric_limits<double>::infinity(), xmax = -xmin, ymin = xmin, ymax = -xmin;
+  for (const PlotSeries& s : series)
+    for (size_t i = 0; i < std::min(s.x.size(), s.y.size()); ++i) {
+      if (!usable(s.y[i]) || !std::isfinite(s.x[i])) continue;
+      const double y = o.log_y ? std::log10(s.y[i]) : s.y[i];
+      xmin = std::min(xmin, s.x[i]);
+      xmax = std::max(xmax, s.x[i]);
+      ymin = std::min(ymin, y);
+      ymax = std::max(ymax, y);
+    }
+  if (!std::isfinite(xmin)) xmin = 0, xmax = 1, ymin = 0, ymax = 1;
+  if (xmax - xmin < 1e-12) xmax = xmin + 1;
+  if (o.log_y) {
+    ymin = std::floor(ymin * 4) / 4, ymax = std::ceil(ymax * 4) / 4;
+  }
+  if (ymax - ymin < 1e-12) ymin -= 0.5, ymax += 0.5;
+
+  const double left = 70, right = 20, top = 36, bottom = 50;
+  const double pw = o.width - left - right, ph = o.height - top - bottom;
+  auto px = [&](double x) { return left + (x - xmin) / (xmax - xmin) * pw; };
+  auto py = [&](double y) { return top + (1.0 - (y - ymin) / (ymax - ymin)) * ph; };
+
+  std::ostringstream svg;
+  svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << o.width << "\" height=\"" << o.height
+      << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
+      << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
+      << "<text x=\"" << o.width / 2 << "\" y=\"20\" text-anchor=\"middle\" font-size=\"14\">" << Escape(o.title)
+      << "</text>\n"
+      << "<rect x=\"" << left << "\" y=\"" << top << "\" width=\"" << pw << "\" height=\"" << ph
+      << "\" fill=\"none\" stroke=\"#444\"/>\n";
+  for (double t : LinearTicks(xmin, xmax))
+    svg << "<line x1=\"" << px(t) << "\" y1=\"" << top + ph << "\" x2=\"" << px(t) << "\" y2=\"" << top + ph + 5
+        << "\" stroke=\"#444\"/><text x=\"" << px(t) << "\" y=\"" << top + ph + 18 << "\" text-anchor=\"middle\">"
+        << Num(t) << "</text>\n";
+  std::vector<double> yticks;
+  if (o.log_y) {
+    for (double e = std::floor(ymin); e <= ymax + 1e-9; e += 1.0)
+      for (double m : {1.0, 2.0, 5.0}) {
+        const double t = e + std::log10(m);
+        if (t >= ymin - 1e-9 && t <= ymax + 1e-9) yticks.push_back(t);
+      }
+  } else {
+    yticks = LinearTicks(ymin, ymax);
+  }
+  for (double t : yticks)
+    svg << "<line x1=\"" << left << "\" y1=\"" << py(t) << "\" x2=\"" << left + pw << "\" y2=\"" << py(t)
+        << "\" stroke=\"#ddd\"/><text x=\"" << left - 6 << "\" y=\"" << py(t) + 4 << "\" text-anchor=\"end\">"
+        << Num(o.log_y ? std::pow(10.0, t) : t) << "</text>\n";
+  svg << "<text x=\"" << left + pw / 2 << "\" y=\"" << o.height - 12 << "\" text-anchor=\"middle\">"
+      << Escape(o.x_label) << "</text>\n"
+      << "<text transform=\"translate(16," << top + ph / 2 << ") rotate(-90)\" text-anchor=\"middle\">"
+      << Escape(o.y_label) << (o.log_y ? " (log scale)" : "") << "</text>\n";
+
+  for (size_t k = 0; k < series.size(); ++k) {
+    const PlotSeries& s = series[k];
+    const char* color = kColors[k % (sizeof(kColors) / sizeof(kColors[0]))];
+    std::ostringstream pts;
+    int n = 0;
+    for (size_t i = 0; i < std::min(s.x.size(), s.y.size()); ++i) {
+      if (!usable(s.y[i]) || !std::isfinite(s.x[i])) continue;
+      const double x = px(s.x[i]), y = py(o.log_y ? std::log10(s.y[i]) : s.y[i]);
+      pts << x << "," << y << " ";
+      svg << "<circle cx=\"" << x << "\" cy=\"" << y << "\" r=\"2.5\" fill=\"" << color << "\"/>\n";
+      ++n;
+    }
+    if (n > 1)
+      svg << "<polyline fill=\"none\" stroke=\"" << color << "\" stroke-width=\"1.8\" points=\"" << pts.str()
+          << "\"/>\n";
+    const double ly = top + 14 + 16 * k;
+    svg << "<line x1=\"" << left + pw - 130 << "\" y1=\"" << ly << "\" x2=\"" << left + pw - 110 << "\" y2=\"" << ly
+        << "\" stroke=\"" << color << "\" stroke-width=\"3\"/><text x=\"" << left + pw - 104 << "\" y=\"" << ly + 4
+        << "\">" << Escape(s.name) << "</text>\n";
+  }
+  svg << "</svg>\n";
+  return svg.str();
+}
+
+}  // namespace pgba

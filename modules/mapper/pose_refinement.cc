@@ -1,0 +1,176 @@
+#include "mapper/pose_refinement.h"
+
+#include <string>
+
+#include "pgba/scene/triangulate_model.h"
+#include "pgba/util/error.h"
+#include "pgba/util/logging.h"
+#include "pgba/util/timer.h"
+
+namespace pgba {
+
+const char* RefinementMethodName(RefinementMethod method) {
+  switch (method) {
+    case RefinementMethod::kPointless:
+      return "pointless";
+    case RefinementMethod::kPointBased:
+      return "pointbased";
+    case RefinementMethod::kAveraging:
+      return "averaging";
+  }
+  return "unknown";
+}
+
+void AddRefinementSections(ConfigSchema* schema) {
+  const RefinementOptions defaults;
+  schema->Add("local_hessian", defaults.local_hessian)
+      .Add("global_ba", defaults.global_ba)
+      .Add("point_based", defaults.point_based);
+}
+
+void ReadRefinementOptions(const Config& config, RefinementOptions* options) {
+  ReadSection(config, "local_hessian", &options->local_hessian);
+  ReadSection(config, "global_ba", &options->global_ba);
+  ReadSection(config, "point_based", &options->point_based);
+}
+
+PreparedHessians PrepareLocalHessians(const Reconstruction& tracks, const std::vector<Triplet>& triplets,
+                                      const LocalHessianOptions& options) {
+  ResetPeakRss();
+  Timer timer;
+  PreparedHessians out;
+  out.result = ComputeLocalHessians(tracks, triplets, options);
+  out.seconds = timer.Seconds();
+  out.peak_rss_mb = PeakRssMb();
+  PGBA_LOG_INFO << "local hessians: " << out.result.num_ok() << " of " << triplets.size() << " triplets usable in "
+                << out.seconds << " s";
+  return out;
+}
+
+namespace {
+
+nlohmann::json HessianStatusCounts(const LocalHessianResult& r) {
+  nlohmann::json j = nlohmann::json::object();
+  for (int s = 0; s < kNumLocalHessianStatus; ++s)
+    j[LocalHessianStatusName(static_cast<LocalHessianStatus>(s))] = r.status_counts[s];
+  return j;
+}
+
+std::map<uint32_t, Pose> PosesOf(const Reconstruction& rec) {
+  std::map<uint32_t, Pose> poses;
+  for (const auto& [id, im] : rec.images) poses[id] = im.pose;
+  return poses;
+}
+
+// Removes the observations whose reprojection error exceeds max_px (and the points left
+// with fewer than two); returns the number of observations removed.
+size_t FilterObservations(double max_px, Reconstruction* rec) {
+  size_t removed = 0;
+  std::vector<uint64_t> emptied;
+  for (auto& [pid, point] : rec->points3D) {
+    const std::vector<double> errors = ObservationErrorsPx(*rec, pid);
+    std::vector<TrackElement> kept;
+    for (size_t i = 0; i < point.track.size(); ++i) {
+      if (errors[i] <= max_px) {
+        kept.push_back(point.track[i]);
+      } else {
+        rec->images.at(point.track[i].image_id).points2D[point.track[i].point2D_idx].point3D_id = kNoPoint3D;
+        ++removed;
+      }
+    }
+    point.track = std::move(kept);
+    if (point.track.size() < 2) emptied.push_back(pid);
+  }
+  for (uint64_t pid : emptied) rec->DeletePoint3D(pid);
+  return removed;
+}
+
+RefinementResult RefinePointBased(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
+                                  const PointBasedOptions& options, bool record_history) {
+  RefinementResult r;
+  ResetPeakRss();
+  Timer prepare;
+  Reconstruction model = TriangulateModel(tracks, initial);
+  r.prepare_seconds = prepare.Seconds();
+  if (model.points3D.empty()) throw InputError("point-based BA: no track could be triangulated");
+
+  BundleAdjustmentProblem problem;
+  ChooseGauge(model, &problem);
+  if (record_history) {
+    r.history.push_back(PosesOf(model));
+    problem.callback = [&r](const BundleAdjustmentIteration& it) {
+      if (it.iteration > 0) r.history.push_back(PosesOf(*it.state));
+    };
+  }
+  r.num_params = 6 * static_cast<int>(model.images.size()) + 3 * static_cast<int>(model.points3D.size());
+  Timer adjust;
+  const BundleAdjustmentSummary first = BundleAdjust(problem, options.bundle, &model);
+  if (!first.usable) throw InputError("point-based BA: solver failure: " + first.message);
+  r.iterations = first.iterations;
+  size_t filtered = 0;
+  if (options.filter_max_error_px > 0) {
+    filtered = FilterObservations(options.filter_max_error_px, &model);
+    if (filtered > 0) {
+      const BundleAdjustmentSummary second = BundleAdjust(problem, options.bundle, &model);
+      if (!second.usable) throw InputError("point-based BA: solver failure: " + second.message);
+      r.iterations += second.iterations;
+    }
+  }
+  r.adjust_seconds = adjust.Seconds();
+  r.peak_rss_mb = PeakRssMb();
+  r.poses = PosesOf(model);
+  r.details = {{"points", model.points3D.size()},
+               {"observations", first.num_observations},
+               {"observations_filtered", filtered},
+               {"linear_solver", first.linear_solver},
+               {"converged", first.converged}};
+  return r;
+}
+
+RefinementResult RefineWithTriplets(RefinementMethod method, const std::map<uint32_t, Pose>& initial,
+                                    const std::vector<Triplet>& triplets, const PreparedHessians& hessians,
+                                    const GlobalBAOptions& options, bool record_history) {
+  RefinementResult r;
+  r.prepare_seconds = hessians.seconds;
+  ResetPeakRss();
+  GlobalBAIterationCallback callback;
+  if (record_history) callback = [&r](const GlobalBAIteration& it) { r.history.push_back(*it.poses); };
+  const GlobalBAResult g = method == RefinementMethod::kPointless
+                               ? PointlessGlobalBA(initial, triplets, hessians.result.hessians, options, callback)
+                               : AveragingGlobalBA(initial, triplets, hessians.result.hessians, options, callback);
+  r.adjust_seconds = g.summary.seconds;
+  r.peak_rss_mb = std::max(PeakRssMb(), hessians.peak_rss_mb);
+  r.poses = g.poses;
+  r.excluded_images = g.summary.excluded_images;
+  r.num_params = g.summary.num_params;
+  r.iterations = g.summary.iterations;
+  r.details = {{"triplets_used", g.summary.num_triplets},
+               {"triplets_excluded", g.summary.num_triplets_excluded},
+               {"triplets_downweighted", g.summary.num_triplets_downweighted},
+               {"rounds", g.summary.rounds},
+               {"fitting_scale", g.summary.robust_scale},
+               {"local_hessians", HessianStatusCounts(hessians.result)}};
+  return r;
+}
+
+}  // namespace
+
+RefinementResult RefinePoses(RefinementMethod method, const Reconstruction& tracks,
+                             const std::map<uint32_t, Pose>& initial, const std::vector<Triplet>& triplets,
+                             const PreparedHessians* hessians, const RefinementOptions& options,
+                             bool record_history) {
+  RefinementResult r;
+  if (method == RefinementMethod::kPointBased) {
+    r = RefinePointBased(tracks, initial, options.point_based, record_history);
+  } else {
+    if (!hessians) throw std::invalid_argument("RefinePoses: local hessians are required for this method");
+    r = RefineWithTriplets(method, initial, triplets, *hessians, options.global_ba, record_history);
+  }
+  r.method = method;
+  PGBA_LOG_INFO << RefinementMethodName(method) << ": " << r.poses.size() << " poses, " << r.num_params
+                << " unknowns, " << r.iterations << " iterations, adjustment " << r.adjust_seconds
+                << " s (preparation " << r.prepare_seconds << " s)";
+  return r;
+}
+
+}  // namespace pgba

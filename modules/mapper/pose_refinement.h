@@ -1,0 +1,84 @@
+// The final adjustment of the initial global solution (paper steps 3 and 4), by one of three
+// methods that start from the same initial poses and the same tracks:
+//   pointless  — local Hessian BA per triplet (section 3, eqs. 1-3), then the pointless
+//                global BA weighted by the 18x18 reduced camera matrices (eq. 5);
+//   averaging  — Aver_BA: the same relative motions and solver, scalar weights instead of
+//                the Hessians (IRLS motion averaging, the paper's baseline);
+//   pointbased — classical BA over poses and triangulated points (Huber, Schur complement).
+// `pgba reconstruct` runs the first; `pgba benchmark` runs all three on one initialisation.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "global_ba/global_ba.h"
+#include "local_hessian/local_hessian.h"
+#include "pgba/io/json_config.h"
+#include "pgba/optim/bundle_adjuster.h"
+#include "pgba/scene/reconstruction.h"
+#include "pgba/scene/view_graph.h"
+
+namespace pgba {
+
+enum class RefinementMethod { kPointless, kPointBased, kAveraging };
+// "pointless", "pointbased", "averaging" (the benchmark's method and model folder names).
+const char* RefinementMethodName(RefinementMethod method);
+constexpr RefinementMethod kAllRefinementMethods[] = {RefinementMethod::kPointless, RefinementMethod::kPointBased,
+                                                      RefinementMethod::kAveraging};
+
+struct PointBasedOptions {
+  BundleAdjusterOptions bundle;
+  // Observations whose reprojection error exceeds this after a first adjustment are removed
+  // and the adjustment is run again (COLMAP's filter-and-refine; <= 0: a single pass).
+  double filter_max_error_px = 4.0;
+};
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(PointBasedOptions, bundle, filter_max_error_px)
+
+// One options struct per stage, each read from the config section of the same name.
+struct RefinementOptions {
+  LocalHessianOptions local_hessian;  // section "local_hessian"
+  GlobalBAOptions global_ba;          // section "global_ba" (pointless and averaging)
+  PointBasedOptions point_based;      // section "point_based"
+};
+void AddRefinementSections(ConfigSchema* schema);
+void ReadRefinementOptions(const Config& config, RefinementOptions* options);
+
+struct RefinementResult {
+  RefinementMethod method = RefinementMethod::kPointless;
+  std::map<uint32_t, Pose> poses;  // refined poses (images the method could adjust)
+  std::vector<uint32_t> excluded_images;  // initial poses the method could not adjust
+  int num_params = 0;   // unknowns: 6 per pose + 7 per triplet, or + 3 per point
+  int iterations = 0;   // Levenberg-Marquardt iterations (all rounds / passes)
+  // Wall time of the preparation (local Hessians; point triangulation) and of the
+  // adjustment alone, and the peak resident memory over both (MiB).
+  double prepare_seconds = 0.0;
+  double adjust_seconds = 0.0;
+  double peak_rss_mb = 0.0;
+  // Poses before the first and after every iteration (if requested): the convergence curve.
+  std::vector<std::map<uint32_t, Pose>> history;
+  nlohmann::json details = nlohmann::json::object();  // method-specific counts
+};
+
+// Local Hessians of the kept triplets, shared by pointless and averaging (the benchmark
+// computes them once). Logged and counted per rejection reason.
+struct PreparedHessians {
+  LocalHessianResult result;
+  double seconds = 0.0;
+  double peak_rss_mb = 0.0;
+};
+PreparedHessians PrepareLocalHessians(const Reconstruction& tracks, const std::vector<Triplet>& triplets,
+                                      const LocalHessianOptions& options);
+
+// Refines `initial` by `method`. `hessians` (from PrepareLocalHessians on the same
+// triplets) is required for pointless and averaging and ignored by pointbased. Throws
+// InputError when the method cannot run (no usable triplet, no point).
+RefinementResult RefinePoses(RefinementMethod method, const Reconstruction& tracks,
+                             const std::map<uint32_t, Pose>& initial, const std::vector<Triplet>& triplets,
+                             const PreparedHessians* hessians, const RefinementOptions& options,
+                             bool record_history = false);
+
+}  // namespace pgba

@@ -1,0 +1,78 @@
+#include "mapper/reconstruction_pipeline.h"
+
+#include <filesystem>
+
+#include "pgba/io/colmap_text.h"
+#include "pgba/io/ply.h"
+#include "pgba/scene/triangulate_model.h"
+#include "pgba/util/logging.h"
+
+namespace pgba {
+
+void AddReconstructionSections(ConfigSchema* schema) {
+  AddGlobalMapperSections(schema);
+  AddRefinementSections(schema);
+}
+
+void ReadReconstructionOptions(const Config& config, ReconstructionOptions* options) {
+  ReadGlobalMapperOptions(config, &options->mapper);
+  ReadRefinementOptions(config, &options->refinement);
+}
+
+ReconstructionOptions LoadReconstructionOptions(const std::string& path) {
+  ReconstructionOptions options;
+  if (path.empty()) return options;
+  ConfigSchema schema;
+  AddReconstructionSections(&schema);
+  ReadReconstructionOptions(LoadConfig(path, schema), &options);
+  return options;
+}
+
+ReconstructionOutput Reconstruct(const Reconstruction& tracks, const ReconstructionOptions& options, Report* report) {
+  ReconstructionOutput out;
+  out.init = RunGlobalMapper(tracks, options.mapper, report);
+  {
+    StageTimer timer(report, "local_hessians");
+    out.hessians = PrepareLocalHessians(tracks, out.init.init.triplets, options.refinement.local_hessian);
+    nlohmann::json& stage = timer.Stop();
+    stage["triplets"] = out.init.init.triplets.size();
+    stage["ok"] = out.hessians.result.num_ok();
+    for (int s = 1; s < kNumLocalHessianStatus; ++s)
+      stage["rejected"][LocalHessianStatusName(static_cast<LocalHessianStatus>(s))] = out.hessians.result.status_counts[s];
+  }
+  {
+    StageTimer timer(report, "global_ba");
+    out.refined = RefinePoses(RefinementMethod::kPointless, tracks, out.init.init.poses, out.init.init.triplets,
+                              &out.hessians, options.refinement);
+    nlohmann::json& stage = timer.Stop();
+    stage["params"] = out.refined.num_params;
+    stage["iterations"] = out.refined.iterations;
+    stage["adjust_seconds"] = out.refined.adjust_seconds;
+    stage.update(out.refined.details);
+    stage.erase("local_hessians");
+  }
+  {
+    StageTimer timer(report, "triangulation");
+    out.model = TriangulateModel(tracks, out.refined.poses);
+    timer.Stop()["points"] = out.model.points3D.size();
+  }
+  std::vector<std::string> dropped = out.init.init.images_dropped;
+  for (uint32_t id : out.refined.excluded_images) {
+    dropped.push_back(tracks.images.at(id).name);
+    PGBA_LOG_WARN << "image dropped (in no usable triplet of the global BA): " << tracks.images.at(id).name;
+  }
+  (*report)["images_input"] = tracks.images.size();
+  (*report)["images_registered"] = out.refined.poses.size();
+  (*report)["images_dropped"] = dropped;
+  (*report)["params"] = out.refined.num_params;
+  return out;
+}
+
+void WriteReconstruction(const std::string& out, const Reconstruction& tracks, const ReconstructionOutput& result) {
+  namespace fs = std::filesystem;
+  WriteGlobalMapperWorkspace(out, tracks, result.init);
+  WriteColmapText(result.model, (fs::path(out) / "sparse").string());
+  WritePly(result.model, (fs::path(out) / "points.ply").string());
+}
+
+}  // namespace pgba

@@ -1,0 +1,41 @@
+// The pipeline of `pgba reconstruct` (and the back half of `pgba run`), from tracks to the
+// final poses, reading like the paper's section 3.3:
+//   global mapper (relative motions, initial global solution)
+//   -> local hessian BA per triplet -> pointless global BA -> points triangulated.
+#pragma once
+
+#include <string>
+
+#include "mapper/global_mapper.h"
+#include "mapper/pose_refinement.h"
+#include "pgba/io/json_config.h"
+#include "pgba/io/report.h"
+#include "pgba/scene/reconstruction.h"
+
+namespace pgba {
+
+struct ReconstructionOptions {
+  GlobalMapperOptions mapper;    // sections "pairs", "triplets", "global_init"
+  RefinementOptions refinement;  // sections "local_hessian", "global_ba", "point_based"
+};
+void AddReconstructionSections(ConfigSchema* schema);
+void ReadReconstructionOptions(const Config& config, ReconstructionOptions* options);
+// Loads `path` (empty: defaults) against the schema of every section above.
+ReconstructionOptions LoadReconstructionOptions(const std::string& path);
+
+struct ReconstructionOutput {
+  GlobalMapperResult init;
+  PreparedHessians hessians;
+  RefinementResult refined;
+  Reconstruction model;  // the tracks triangulated with the refined poses
+};
+
+// Every stage, timed in `report` ("pairs", "triplets", "global_init", "local_hessians",
+// "global_ba", "triangulation"); InputError when no reconstruction is possible.
+ReconstructionOutput Reconstruct(const Reconstruction& tracks, const ReconstructionOptions& options, Report* report);
+
+// OUT/pairs.json, OUT/triplets.json, OUT/init/ (the workspace of `init`), OUT/sparse/ (COLMAP
+// text model) and OUT/points.ply.
+void WriteReconstruction(const std::string& out, const Reconstruction& tracks, const ReconstructionOutput& result);
+
+}  // namespace pgba
