@@ -20,5 +20,6 @@ void RegisterFeatures(CLI::App& app);
 void RegisterMatch(CLI::App& app);
 void RegisterReconstruct(CLI::App& app);
 void RegisterBenchmark(CLI::App& app);
+void RegisterRun(CLI::App& app);
 
 }  // namespace pgba::app

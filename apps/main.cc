@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
   app::RegisterMatch(app);
   app::RegisterReconstruct(app);
   app::RegisterBenchmark(app);
+  app::RegisterRun(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -2,6 +2,7 @@
 
 #include <filesystem>
 
+#include "evaluation/sigma.h"
 #include "pgba/io/colmap_text.h"
 #include "pgba/io/ply.h"
 #include "pgba/scene/triangulate_model.h"
@@ -28,7 +29,8 @@ ReconstructionOptions LoadReconstructionOptions(const std::string& path) {
   return options;
 }
 
-ReconstructionOutput Reconstruct(const Reconstruction& tracks, const ReconstructionOptions& options, Report* report) {
+ReconstructionOutput Reconstruct(const Reconstruction& tracks, const ReconstructionOptions& options, Report* report,
+                                 bool record_convergence) {
   ReconstructionOutput out;
   out.init = RunGlobalMapper(tracks, options.mapper, report);
   {
@@ -43,13 +45,19 @@ ReconstructionOutput Reconstruct(const Reconstruction& tracks, const Reconstruct
   {
     StageTimer timer(report, "global_ba");
     out.refined = RefinePoses(RefinementMethod::kPointless, tracks, out.init.init.poses, out.init.init.triplets,
-                              &out.hessians, options.refinement);
+                              &out.hessians, options.refinement, record_convergence);
     nlohmann::json& stage = timer.Stop();
     stage["params"] = out.refined.num_params;
     stage["iterations"] = out.refined.iterations;
     stage["adjust_seconds"] = out.refined.adjust_seconds;
     stage.update(out.refined.details);
     stage.erase("local_hessians");
+  }
+  if (record_convergence) {
+    StageTimer timer(report, "convergence");
+    for (const auto& poses : out.refined.history) out.convergence.push_back(EvaluateSigma(tracks, poses).rms);
+    out.refined.history.clear();
+    timer.Stop()["iterations"] = out.convergence.size();
   }
   {
     StageTimer timer(report, "triangulation");

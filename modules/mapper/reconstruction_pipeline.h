@@ -28,11 +28,16 @@ struct ReconstructionOutput {
   PreparedHessians hessians;
   RefinementResult refined;
   Reconstruction model;  // the tracks triangulated with the refined poses
+  // sigma_rms of the tracks before and after every iteration of the pointless global BA
+  // (paper Figure 3), if requested.
+  std::vector<double> convergence;
 };
 
 // Every stage, timed in `report` ("pairs", "triplets", "global_init", "local_hessians",
-// "global_ba", "triangulation"); InputError when no reconstruction is possible.
-ReconstructionOutput Reconstruct(const Reconstruction& tracks, const ReconstructionOptions& options, Report* report);
+// "global_ba", "triangulation", and "convergence" if requested); InputError when no
+// reconstruction is possible.
+ReconstructionOutput Reconstruct(const Reconstruction& tracks, const ReconstructionOptions& options, Report* report,
+                                 bool record_convergence = false);
 
 // OUT/pairs.json, OUT/triplets.json, OUT/init/ (the workspace of `init`), OUT/sparse/ (COLMAP
 // text model) and OUT/points.ply.

@@ -1,0 +1,177 @@
+#include "benchmark/html_report.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "benchmark/svg_plot.h"
+
+namespace pgba {
+namespace {
+
+std::string Escape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    if (c == '<') out += "&lt;";
+    else if (c == '>') out += "&gt;";
+    else if (c == '&') out += "&amp;";
+    else if (c == '"') out += "&quot;";
+    else out += c;
+  }
+  return out;
+}
+
+std::string Fmt(const char* format, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), format, v);
+  return buf;
+}
+
+void Row(std::ostringstream& h, const std::string& key, const std::string& value) {
+  h << "<tr><th>" << Escape(key) << "</th><td>" << Escape(value) << "</td></tr>\n";
+}
+
+double Percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  const size_t k = std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1)));
+  std::nth_element(v.begin(), v.begin() + k, v.end());
+  return v[k];
+}
+
+}  // namespace
+
+std::string TopViewSvg(const Reconstruction& model, int width, int height) {
+  std::vector<Eigen::Vector3d> cams, pts;
+  for (const auto& [id, im] : model.images) cams.push_back(im.pose.C());
+  for (const auto& [id, p] : model.points3D) pts.push_back(p.xyz);
+  std::ostringstream svg;
+  svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width << "\" height=\"" << height
+      << "\"><rect width=\"100%\" height=\"100%\" fill=\"white\" stroke=\"#444\"/>\n";
+  if (cams.empty()) return svg.str() + "</svg>\n";
+  // Principal axes of cameras and points together (cameras weighted up so that a few
+  // cameras over many points still set the view).
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const auto& c : cams) mean += c;
+  mean /= cams.size();
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  const double wc = pts.empty() ? 1.0 : static_cast<double>(pts.size()) / cams.size();
+  for (const auto& c : cams) cov += wc * (c - mean) * (c - mean).transpose();
+  for (const auto& p : pts) cov += (p - mean) * (p - mean).transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  const Eigen::Vector3d a = eig.eigenvectors().col(2), b = eig.eigenvectors().col(1);
+  auto project = [&](const Eigen::Vector3d& X) { return Eigen::Vector2d((X - mean).dot(a), (X - mean).dot(b)); };
+  std::vector<double> xs, ys;
+  for (const auto& c : cams) xs.push_back(project(c).x()), ys.push_back(project(c).y());
+  std::vector<double> pxs, pys;
+  for (const auto& p : pts) pxs.push_back(project(p).x()), pys.push_back(project(p).y());
+  double xmin = *std::min_element(xs.begin(), xs.end()), xmax = *std::max_element(xs.begin(), xs.end());
+  double ymin = *std::min_element(ys.begin(), ys.end()), ymax = *std::max_element(ys.begin(), ys.end());
+  if (!pts.empty()) {
+    xmin = std::min(xmin, Percentile(pxs, 0.02)), xmax = std::max(xmax, Percentile(pxs, 0.98));
+    ymin = std::min(ymin, Percentile(pys, 0.02)), ymax = std::max(ymax, Percentile(pys, 0.98));
+  }
+  const double span = std::max({xmax - xmin, ymax - ymin, 1e-9});
+  const double scale = std::min((width - 40) / std::max(xmax - xmin, 1e-9 * span),
+                                (height - 40) / std::max(ymax - ymin, 1e-9 * span));
+  auto sx = [&](double x) { return width / 2.0 + (x - (xmin + xmax) / 2) * scale; };
+  auto sy = [&](double y) { return height / 2.0 - (y - (ymin + ymax) / 2) * scale; };
+  // At most ~20k points drawn (every k-th), to keep the page small.
+  const size_t step = std::max<size_t>(1, pts.size() / 20000);
+  for (size_t i = 0; i < pts.size(); i += step) {
+    if (pxs[i] < xmin || pxs[i] > xmax || pys[i] < ymin || pys[i] > ymax) continue;
+    svg << "<circle cx=\"" << Fmt("%.1f", sx(pxs[i])) << "\" cy=\"" << Fmt("%.1f", sy(pys[i]))
+        << "\" r=\"0.8\" fill=\"#888\"/>";
+  }
+  svg << "\n";
+  size_t k = 0;
+  for (const auto& [id, im] : model.images) {
+    const Eigen::Vector3d dir = im.pose.R().row(2).transpose();  // viewing direction
+    const Eigen::Vector2d c = project(im.pose.C());
+    const Eigen::Vector2d d(dir.dot(a), dir.dot(b));
+    svg << "<line x1=\"" << Fmt("%.1f", sx(c.x())) << "\" y1=\"" << Fmt("%.1f", sy(c.y())) << "\" x2=\""
+        << Fmt("%.1f", sx(c.x()) + 12 * d.x()) << "\" y2=\"" << Fmt("%.1f", sy(c.y()) - 12 * d.y())
+        << "\" stroke=\"#d62728\"/><circle cx=\"" << Fmt("%.1f", sx(c.x())) << "\" cy=\"" << Fmt("%.1f", sy(c.y()))
+        << "\" r=\"3\" fill=\"#d62728\"><title>" << Escape(im.name) << "</title></circle>\n";
+    ++k;
+  }
+  svg << "</svg>\n";
+  return svg.str();
+}
+
+std::string RunReportHtml(const HtmlReportInput& in) {
+  std::ostringstream h;
+  h << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>" << Escape(in.title) << "</title>\n"
+    << "<style>body{font-family:sans-serif;margin:2em;max-width:1000px}table{border-collapse:collapse;margin:1em 0}"
+       "th,td{border:1px solid #ccc;padding:4px 10px;text-align:left}th{background:#f4f4f4}"
+       "td.n{text-align:right}h2{margin-top:1.5em}</style></head><body>\n"
+    << "<h1>" << Escape(in.title) << "</h1>\n";
+  const nlohmann::json& r = in.report ? *in.report : nlohmann::json::object();
+
+  h << "<h2>Summary</h2><table>\n";
+  if (r.contains("images_input") && r.contains("images_registered"))
+    Row(h, "images registered", std::to_string(r["images_registered"].get<long>()) + " / " +
+                                    std::to_string(r["images_input"].get<long>()));
+  if (r.contains("images_dropped") && !r["images_dropped"].empty()) {
+    std::string names;
+    for (const auto& n : r["images_dropped"]) names += (names.empty() ? "" : ", ") + n.get<std::string>();
+    Row(h, "images dropped", names);
+  }
+  if (in.model) {
+    Row(h, "points", std::to_string(in.model->points3D.size()));
+    Row(h, "observations", std::to_string(in.model->NumObservations()));
+  }
+  if (r.contains("params")) Row(h, "unknowns of the pointless global BA", std::to_string(r["params"].get<long>()));
+  if (in.convergence && !in.convergence->empty()) {
+    Row(h, "sigma initial poses (px)", Fmt("%.4f", in.convergence->front()));
+    Row(h, "sigma final (px)", Fmt("%.4f", in.convergence->back()));
+  }
+  if (in.metrics) {
+    if (in.metrics->sigma.Computable()) {
+      Row(h, "sigma median (px)", Fmt("%.4f", in.metrics->sigma.median));
+      Row(h, "inlier fraction (< 4 px)", Fmt("%.4f", in.metrics->sigma.inlier_fraction));
+    }
+    if (in.metrics->ground_truth && in.metrics->ground_truth->ok) {
+      const GroundTruthErrors& g = *in.metrics->ground_truth;
+      Row(h, "rotation error vs ground truth, median / max (deg)",
+          Fmt("%.4f", g.rot_err_deg_median) + " / " + Fmt("%.4f", g.rot_err_deg_max));
+      Row(h, "centre error vs ground truth, median / max (fraction of extent)",
+          Fmt("%.2e", g.center_err_rel_median) + " / " + Fmt("%.2e", g.center_err_rel_max));
+    }
+  }
+  h << "</table>\n";
+
+  if (r.contains("stages")) {
+    std::vector<std::pair<int, std::string>> order;
+    for (const auto& [name, st] : r["stages"].items()) order.push_back({st.value("order", 0), name});
+    std::sort(order.begin(), order.end());
+    double total = 0.0;
+    h << "<h2>Stages</h2><table><tr><th>stage</th><th>seconds</th><th>peak memory (MiB)</th></tr>\n";
+    for (const auto& [o, name] : order) {
+      const auto& st = r["stages"][name];
+      const double s = st.value("seconds", 0.0);
+      total += s;
+      h << "<tr><td>" << Escape(name) << "</td><td class=\"n\">" << Fmt("%.2f", s) << "</td><td class=\"n\">"
+        << Fmt("%.0f", st.value("peak_rss_mb", 0.0)) << "</td></tr>\n";
+    }
+    h << "<tr><th>total</th><th class=\"n\">" << Fmt("%.2f", total) << "</th><th></th></tr></table>\n";
+  }
+  if (in.convergence && !in.convergence->empty()) {
+    PlotSeries s{"pointless global BA", {}, *in.convergence};
+    for (size_t i = 0; i < s.y.size(); ++i) s.x.push_back(static_cast<double>(i));
+    PlotOptions o;
+    o.title = "sigma per iteration";
+    o.x_label = "iteration";
+    o.y_label = "sigma (px)";
+    o.log_y = true;
+    h << "<h2>Convergence</h2>\n" << LinePlotSvg({s}, o);
+  }
+  if (in.model) h << "<h2>Top view</h2><p>cameras (red, with viewing direction) and points</p>\n" << TopViewSvg(*in.model);
+  h << "<h2>Files</h2><ul><li><code>sparse/</code>: COLMAP text model</li><li><code>points.ply</code></li>"
+       "<li><code>report.json</code>: every stage's record</li><li><code>log.txt</code></li></ul>\n";
+  h << "</body></html>\n";
+  return h.str();
+}
+
+}  // namespace pgba

@@ -1,0 +1,31 @@
+// report.html of `pgba run`: the page a user opens first. Self-contained (inline SVG and
+// CSS, no script, no external resource): summary table, ground-truth errors when known,
+// per-stage timings, the pointless BA's convergence plot and a top view of cameras and
+// points.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "evaluation/evaluation.h"
+#include "pgba/scene/reconstruction.h"
+
+namespace pgba {
+
+struct HtmlReportInput {
+  std::string title;
+  const nlohmann::json* report = nullptr;    // report.json (stages with "seconds" and "order")
+  const Reconstruction* model = nullptr;     // the final model
+  const std::vector<double>* convergence = nullptr;  // sigma per iteration (may be empty)
+  const EvaluationMetrics* metrics = nullptr;        // of the final model (may be null)
+};
+
+std::string RunReportHtml(const HtmlReportInput& input);
+
+// Top view: camera centres and points projected on the plane of the two principal axes of
+// the camera centres and points (points beyond the 2nd..98th percentiles are left out so a
+// few far points do not shrink the picture).
+std::string TopViewSvg(const Reconstruction& model, int width = 640, int height = 480);
+
+}  // namespace pgba

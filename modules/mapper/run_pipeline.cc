@@ -1,0 +1,111 @@
+#include "mapper/run_pipeline.h"
+
+#include <filesystem>
+#include <fstream>
+
+#include "evaluation/sigma.h"
+#include "pgba/io/colmap_text.h"
+#include "pgba/io/two_view_geometries.h"
+#include "pgba/util/atomic_file.h"
+#include "pgba/util/error.h"
+#include "pgba/util/logging.h"
+
+namespace pgba {
+namespace fs = std::filesystem;
+
+RunOptions LoadRunOptions(const std::string& path) {
+  RunOptions options;
+  if (path.empty()) return options;
+  ConfigSchema schema;
+  schema.Add("features", options.features).Add("matching", options.matching);
+  AddReconstructionSections(&schema);
+  const Config config = LoadConfig(path, schema);
+  ReadSection(config, "features", &options.features);
+  ReadSection(config, "matching", &options.matching);
+  ReadReconstructionOptions(config, &options.reconstruction);
+  return options;
+}
+
+namespace {
+
+// What the tracks of a workspace were computed from: the matching options and every
+// image's feature count. Equal keys let a re-run skip matching.
+nlohmann::json TracksKey(const FeatureExtractionResult& features, const MatchingOptions& options) {
+  nlohmann::json images = nlohmann::json::array();
+  for (const IndexedImage& im : features.index.images) images.push_back({im.name, im.num_features});
+  return {{"matching", options}, {"features", features.index.images.size()}, {"images", images}};
+}
+
+bool CachedTracksValid(const fs::path& out, const nlohmann::json& key) {
+  const fs::path key_path = out / "tracks" / "key.json";
+  if (!fs::exists(key_path) || !fs::exists(out / "tracks" / "points3D.txt")) return false;
+  std::ifstream in(key_path);
+  const nlohmann::json stored = nlohmann::json::parse(in, nullptr, false);
+  return !stored.is_discarded() && stored == key;
+}
+
+Reconstruction MatchOrReuse(const FeatureExtractionResult& features, const fs::path& out,
+                            const MatchingOptions& options, Report* report) {
+  const nlohmann::json key = TracksKey(features, options);
+  StageTimer timer(report, "match");
+  if (CachedTracksValid(out, key)) {
+    Reconstruction tracks = ReadColmapText((out / "tracks").string());
+    nlohmann::json& stage = timer.Stop();
+    stage["cached"] = true;
+    stage["tracks"] = tracks.points3D.size();
+    PGBA_LOG_INFO << "match: reusing " << (out / "tracks").string() << " (same features and options)";
+    return tracks;
+  }
+  const MatchingResult r = MatchImages(out.string(), options);
+  WriteColmapText(r.tracks, (out / "tracks").string());
+  fs::create_directories(out / "matching");
+  WriteTwoViewGeometries(r.two_view_geometries, (out / "matching" / "two_view_geometries.txt").string());
+  WriteStringAtomically((out / "tracks" / "key.json").string(), key.dump() + "\n");
+  nlohmann::json& stage = timer.Stop();
+  stage["cached"] = false;
+  stage["pairs"] = r.num_pairs;
+  stage["pairs_verified"] = r.two_view_geometries.size();
+  stage["putative_matches"] = r.num_putative;
+  stage["verified_matches"] = r.num_verified_matches;
+  stage["tracks"] = r.track_stats.num_tracks;
+  stage["mean_track_length"] = r.track_stats.mean_track_length;
+  stage["images_without_tracks"] = r.images_without_tracks;
+  if (r.num_pairs > 0) stage["seconds_per_pair"] = r.seconds_matching / r.num_pairs;
+  return r.tracks;
+}
+
+}  // namespace
+
+RunOutput RunPipeline(const std::string& images_dir, const CalibrationInput& calibration, const std::string& out,
+                      const RunOptions& options, Report* report) {
+  RunOutput result;
+  const fs::path ws(out);
+  fs::create_directories(ws);
+  FeatureExtractionResult features;
+  {
+    StageTimer timer(report, "features");
+    features = ExtractFeatures(images_dir, calibration, out, options.features);
+    nlohmann::json& stage = timer.Stop();
+    stage["images"] = features.index.images.size();
+    stage["images_extracted"] = features.num_extracted;
+    stage["images_cached"] = features.num_cached;
+    stage["megapixels_extracted"] = features.megapixels_extracted;
+    if (features.megapixels_extracted > 0)
+      stage["seconds_per_megapixel"] = features.seconds / features.megapixels_extracted;
+    nlohmann::json skipped = nlohmann::json::array();
+    for (const SkippedImage& s : features.skipped) skipped.push_back({{"name", s.name}, {"reason", s.reason}});
+    stage["images_skipped"] = skipped;
+  }
+  if (features.index.images.size() < 3)
+    throw InputError(images_dir + ": " + std::to_string(features.index.images.size()) +
+                     " usable image(s); a reconstruction needs at least 3 overlapping images");
+  result.tracks = MatchOrReuse(features, ws, options.matching, report);
+  if (result.tracks.points3D.empty())
+    throw InputError(images_dir + ": no verified matches between the images (do they overlap?)");
+
+  result.reconstruction = Reconstruct(result.tracks, options.reconstruction, report, /*record_convergence=*/true);
+  WriteReconstruction(out, result.tracks, result.reconstruction);
+  return result;
+}
+
+}  // namespace pgba

@@ -1,0 +1,37 @@
+// `pgba run`: the whole mission, from a folder of calibrated photos to poses and points.
+//   features (SIFT, cached per image) -> matching + verification -> tracks
+//   -> global mapper -> local hessian BA per triplet -> pointless global BA -> points.
+// The output folder is also the workspace: a re-run reuses the cached features and, when
+// the matching options and the feature set are unchanged, the tracks.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "features/extract_features.h"
+#include "mapper/reconstruction_pipeline.h"
+#include "matching/match_images.h"
+#include "pgba/io/report.h"
+
+namespace pgba {
+
+struct RunOptions {
+  FeatureExtractionOptions features;   // section "features"
+  MatchingOptions matching;            // section "matching"
+  ReconstructionOptions reconstruction;  // the sections of `reconstruct`
+};
+// Loads `path` (empty: defaults) against the schema of every section above.
+RunOptions LoadRunOptions(const std::string& path);
+
+struct RunOutput {
+  Reconstruction tracks;
+  ReconstructionOutput reconstruction;  // with its convergence curve
+};
+
+// Every stage, timed in `report`; writes OUT/features/, OUT/tracks/, OUT/matching/ on the
+// way and the reconstruction's outputs (WriteReconstruction) at the end. InputError when no
+// reconstruction is possible, with the reason.
+RunOutput RunPipeline(const std::string& images_dir, const CalibrationInput& calibration, const std::string& out,
+                      const RunOptions& options, Report* report);
+
+}  // namespace pgba
