@@ -125,9 +125,21 @@ GlobalInitResult RunGlobalInitialisation(const Reconstruction& tracks, const std
   stats.triplets_outside_component += KeepLargestComponent(&triplets);
   if (triplets.empty()) return finish(false, "no usable triplet");
 
-  // 3. Rotation averaging.
+  // 3. Pairs checked against the triplets (those no triplet covers: against the rotations
+  // averaged from the triplets alone), then rotation averaging.
   Timer timer;
   std::set<uint32_t> images = ImagesOfTriplets(triplets, LargestTripletComponent(triplets));
+  if (options.pair_validation.enabled) {
+    RotationAveragingOptions triplets_only = options.rotation;
+    triplets_only.observations.use_pairs = false;
+    triplets_only.observations.use_triplets = true;
+    std::map<uint32_t, Eigen::Matrix3d> from_triplets;
+    const bool ok = AverageRotations(CollectRelativeRotations({}, triplets, triplets_only.observations),
+                                     triplets_only, &from_triplets);
+    pairs = PairsConsistentWithTriplets(pairs, triplets, options.pair_validation, ok ? &from_triplets : nullptr,
+                                        &stats.pairs_inconsistent);
+    PGBA_LOG_INFO << "pair validation: " << stats.pairs_inconsistent << " pairs disagree with the triplets";
+  }
   std::map<uint32_t, Eigen::Matrix3d> rotations;
   const std::vector<RelativeRotation> observations =
       CollectRelativeRotations(PairsWithin(pairs, images), triplets, options.rotation.observations);
@@ -220,6 +232,7 @@ nlohmann::json GlobalInitReport(const GlobalInitResult& result) {
   j["triplets_input"] = s.triplets_input;
   j["triplets_kept"] = s.triplets_kept;
   j["pairs_invalid"] = s.pairs_invalid;
+  j["pairs_inconsistent"] = s.pairs_inconsistent;
   j["triplets_dropped"] = {{"invalid", s.triplets_invalid},
                            {"outside_component", s.triplets_outside_component},
                            {"rotation_outlier", s.triplets_rotation_outliers},

@@ -7,7 +7,8 @@
 //   1. optional outlier injection (sensitivity experiment);
 //   2. keep the largest component of the triplet graph (triplets sharing an image pair);
 //      images outside it are dropped and named;
-//   3. rotation averaging over the pairs inside the component and the triplets;
+//   3. pairs disagreeing with the triplets that contain them are dropped (pair_validation.h),
+//      then rotation averaging over the pairs inside the component and the triplets;
 //   4. triplets whose local rotations disagree with the averaged ones are dropped (and the
 //      component recomputed);
 //   5. translation averaging;
@@ -22,6 +23,7 @@
 #include <vector>
 
 #include "averaging/outlier_injection.h"
+#include "averaging/pair_validation.h"
 #include "averaging/rotation_averaging.h"
 #include "averaging/translation_averaging.h"
 #include "pgba/geometry/pose.h"
@@ -31,6 +33,7 @@
 namespace pgba {
 
 struct GlobalInitOptions {
+  PairValidationOptions pair_validation;
   RotationAveragingOptions rotation;
   TranslationAveragingOptions translation;
   // A triplet is dropped before translation averaging if one of its local rotations r_k
@@ -42,7 +45,7 @@ struct GlobalInitOptions {
   double max_triplet_centre_error = 0.1;
   OutlierInjectionOptions outliers;
 };
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(GlobalInitOptions, rotation, translation,
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(GlobalInitOptions, pair_validation, rotation, translation,
                                                 max_triplet_rotation_error_deg, max_triplet_centre_error, outliers)
 
 struct GlobalInitStats {
@@ -53,6 +56,8 @@ struct GlobalInitStats {
   int triplets_kept = 0;
   // Pairs ignored for repeated images or non-finite / non-rotation values.
   int pairs_invalid = 0;
+  // Pairs dropped because they disagree with the triplets (pair_validation.h).
+  int pairs_inconsistent = 0;
   // Counted reasons for dropping triplets: repeated images, non-finite values or coincident
   // local centres; outside the largest component; rotation or centre misfit.
   int triplets_invalid = 0;

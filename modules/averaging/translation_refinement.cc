@@ -32,9 +32,13 @@ int RefineCentres(const std::vector<TripletBaseline>& baselines, const std::vect
   const int n = static_cast<int>(centres->rows());
   std::vector<Eigen::Vector3d> C(n);
   for (int i = 0; i < n; ++i) C[i] = centres->row(i).transpose();
-  std::vector<double> sigma(sizes->size());
+  // The inverse scales of the triplets then of the pairs, in one buffer: Ceres orders the
+  // blocks of an elimination group by address, so two separate allocations would make the
+  // elimination order (and the result's last bits) depend on where the heap put them.
+  std::vector<double> inverse_scales(sizes->size() + pairs.size(), 0.0);
+  double* sigma = inverse_scales.data();
+  double* pair_sigma = inverse_scales.data() + sizes->size();
   for (size_t t = 0; t < sizes->size(); ++t) sigma[t] = 1.0 / (*sizes)[t];
-  std::vector<double> pair_sigma(pairs.size());
 
   ceres::Problem::Options problem_options;
   problem_options.loss_function_ownership = ceres::TAKE_OWNERSHIP;
@@ -55,7 +59,7 @@ int RefineCentres(const std::vector<TripletBaseline>& baselines, const std::vect
       problem.SetParameterLowerBound(&pair_sigma[p], 0, 1e-3 * pair_sigma[p]);
     }
   }
-  for (size_t t = 0; t < sigma.size(); ++t) {
+  for (size_t t = 0; t < sizes->size(); ++t) {
     if (!problem.HasParameterBlock(&sigma[t])) continue;
     problem.SetParameterLowerBound(&sigma[t], 0, 1e-3 * sigma[t]);
   }
@@ -69,9 +73,7 @@ int RefineCentres(const std::vector<TripletBaseline>& baselines, const std::vect
   solver_options.sparse_linear_algebra_library_type = ceres::EIGEN_SPARSE;
   {
     auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
-    for (double& s : sigma)
-      if (problem.HasParameterBlock(&s)) ordering->AddElementToGroup(&s, 0);
-    for (double& s : pair_sigma)
+    for (double& s : inverse_scales)
       if (problem.HasParameterBlock(&s)) ordering->AddElementToGroup(&s, 0);
     for (Eigen::Vector3d& c : C)
       if (problem.HasParameterBlock(c.data())) ordering->AddElementToGroup(c.data(), 1);
@@ -86,7 +88,7 @@ int RefineCentres(const std::vector<TripletBaseline>& baselines, const std::vect
   ceres::Solve(solver_options, &problem, &summary);
 
   for (int i = 0; i < n; ++i) centres->row(i) = C[i].transpose();
-  for (size_t t = 0; t < sigma.size(); ++t) (*sizes)[t] = 1.0 / sigma[t];
+  for (size_t t = 0; t < sizes->size(); ++t) (*sizes)[t] = 1.0 / sigma[t];
   return static_cast<int>(summary.iterations.size());
 }
 

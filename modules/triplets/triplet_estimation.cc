@@ -7,6 +7,7 @@
 #include "pgba/geometry/sim3.h"
 #include "pgba/geometry/triangulation.h"
 #include "pgba/optim/bundle_adjuster.h"
+#include "pgba/util/logging.h"
 
 namespace pgba {
 namespace {
@@ -163,10 +164,15 @@ TripletEstimate EstimateTriplet(const TrackIndex& index, const std::array<uint32
   for (int round = 0;; ++round) {
     summary = BundleAdjust(problem, ba, &local);
     out.ba_iterations += summary.iterations;
-    if (!summary.usable) return reject(TripletRejection::kNotConverged);
+    // A round that used up its iteration budget will not converge in the next one either
+    // (weak geometry: the cost crawls along a flat valley); re-solving after outlier removal
+    // would only spend up to three more budgets on a triplet that is rejected in the end.
+    if (!summary.usable || !summary.converged) return reject(TripletRejection::kNotConverged);
     if (round == 3 || RemoveOutlierObservations(options.outlier_threshold_px, &local) == 0) break;
     if (static_cast<int>(local.points3D.size()) < options.min_tracks) return reject(TripletRejection::kTooFewTracks);
   }
+  PGBA_LOG_DEBUG << "triplet " << ids[0] << " " << ids[1] << " " << ids[2] << ": BA " << out.ba_iterations
+                 << " iterations, " << local.points3D.size() << " points, " << summary.message;
   if (!summary.converged) return reject(TripletRejection::kNotConverged);
 
   // 5. Checks on the refined triplet.

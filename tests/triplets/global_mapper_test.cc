@@ -1,0 +1,173 @@
+// The global mapper (pairs -> triplets -> averaging) end to end on small synthetic scenes:
+// tracks with 0.5 px noise and 2% outlier observations from modules/synthetic, poses
+// compared with the scene's ground truth (rotation error after the best global rotation,
+// centre error after a Sim(3) alignment, as fractions of the extent).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <set>
+
+#include "triplets/triplet_selection.h"
+#include "mapper/global_mapper.h"
+#include "pgba/geometry/rotation.h"
+#include "synthetic/synthetic_scene.h"
+#include "tests/averaging/relative_motion_fixture.h"
+
+namespace pgba {
+namespace {
+
+struct Outcome {
+  GlobalMapperResult result;
+  Report report;
+  double rot_median = 0, rot_max = 0, centre_median = 0;
+  int triplet_components = 0;
+};
+
+SyntheticScene Scene(SyntheticScenario scenario, int num_images, double noise_px = 0.5, double outliers = 0.02) {
+  SyntheticOptions so;
+  so.scenario = scenario;
+  so.seed = 1;
+  so.noise_px = noise_px;
+  so.outlier_fraction = outliers;
+  so.num_images = num_images;
+  if (scenario == SyntheticScenario::kAerial) so.num_strips = 2;
+  return GenerateSyntheticScene(so);
+}
+
+Outcome RunMapper(const SyntheticScene& scene, const GlobalMapperOptions& options = {}) {
+  Outcome o;
+  o.result = RunGlobalMapper(scene.input, options, &o.report);
+  std::map<uint32_t, Pose> gt;
+  for (const auto& [id, im] : scene.gt.images) gt[id] = im.pose;
+  std::map<uint32_t, Eigen::Matrix3d> R;
+  std::map<uint32_t, Eigen::Vector3d> C;
+  for (const auto& [id, p] : o.result.init.poses) {
+    R[id] = p.R();
+    C[id] = p.C();
+  }
+  const std::vector<double> rot = test::RotationErrorsDeg(R, gt);
+  o.rot_median = test::Median(rot);
+  o.rot_max = test::Max(rot);
+  o.centre_median = test::Median(test::CentreErrorsRel(C, gt, scene.extent, &R));
+  std::vector<std::array<uint32_t, 3>> ids;
+  for (const Triplet& t : o.result.init.triplets) ids.push_back(t.image_ids);
+  TripletGraphComponents(ids, &o.triplet_components);
+  std::cout << scene.gt.images.size() << " images: " << o.result.init.poses.size() << " registered, "
+            << o.result.init.triplets.size() << " triplets, rotation error median " << o.rot_median << " max "
+            << o.rot_max << " deg, centre error median " << o.centre_median << " of extent\n";
+  return o;
+}
+
+void ExpectAccurate(const SyntheticScene& scene, const Outcome& o, double rot_median, double rot_max,
+                    double centre_median) {
+  EXPECT_EQ(o.result.init.poses.size(), scene.gt.images.size());
+  EXPECT_TRUE(o.result.init.images_dropped.empty());
+  EXPECT_EQ(o.triplet_components, 1);
+  EXPECT_LT(o.rot_median, rot_median);
+  EXPECT_LT(o.rot_max, rot_max);
+  EXPECT_LT(o.centre_median, centre_median);
+}
+
+// Acceptance of issue 3 on the orbit and the aerial block: every image registered, one
+// triplet component, rotation error median < 0.1 deg and max < 0.5 deg, centre error
+// median < 1% of the extent.
+TEST(GlobalMapper, OrbitAccurate) {
+  const SyntheticScene scene = Scene(SyntheticScenario::kOrbit, 0);
+  ExpectAccurate(scene, RunMapper(scene), 0.1, 0.5, 0.01);
+}
+
+TEST(GlobalMapper, AerialAccurate) {
+  const SyntheticScene scene = Scene(SyntheticScenario::kAerial, 0);
+  ExpectAccurate(scene, RunMapper(scene), 0.1, 0.5, 0.01);
+}
+
+// A planar wall: every pair's essential matrix has a twin (the second decomposition of the
+// plane's homography). Noise-free, the init must be exact: before the pairs were checked
+// against the triplets the twins biased rotation averaging by 0.25 deg (median).
+TEST(GlobalMapper, PlanarNoiseFreeIsExact) {
+  const SyntheticScene scene = Scene(SyntheticScenario::kPlanar, 30, 0.0, 0.0);
+  const Outcome o = RunMapper(scene);
+  EXPECT_GT(o.result.init.stats.pairs_inconsistent, 0);  // the twins exist and are found
+  ExpectAccurate(scene, o, 1e-3, 1e-3, 1e-4);
+}
+
+// With noise, on 30 frames: the issue's targets (0.1 deg, 0.5 deg, 1%). Tight: the
+// three-view geometry of a plane seen with a 35 x 54 degree field of view confuses pitch and
+// yaw with the translation over depth (rms 0.15 deg per triplet), and these errors drift
+// along the strip; the default 60-frame video drifts to a median of ~0.18 deg.
+TEST(GlobalMapper, PlanarWithNoise) {
+  const SyntheticScene scene = Scene(SyntheticScenario::kPlanar, 30);
+  ExpectAccurate(scene, RunMapper(scene), 0.1, 0.5, 0.01);
+}
+
+// 10% and 20% of the relative rotations (pairs and triplets) replaced by random ones on the
+// orbit: median rotation error < 0.5 deg over the registered images. Not asserted: that all
+// are registered. At 20% the corrupted triplets, once rejected, cut the orbit's triplet
+// chain and about half the images are dropped (known limitation, issue 3 report).
+TEST(GlobalMapper, OrbitWithRotationOutliers) {
+  const SyntheticScene scene = Scene(SyntheticScenario::kOrbit, 0);
+  for (double fraction : {0.1, 0.2}) {
+    GlobalMapperOptions options;
+    options.global_init.outliers.fraction = fraction;
+    const Outcome o = RunMapper(scene, options);
+    EXPECT_GE(o.result.init.poses.size(), scene.gt.images.size() / 2) << fraction;
+    EXPECT_LT(o.rot_median, 0.5) << fraction;
+  }
+}
+
+// Same input and options: the same triplets and the same poses. Up to rounding: the
+// triplet BAs (Ceres / Eigen on buffers whose alignment varies from run to run) differ in
+// the last bits between runs, which the averaging carries through at the 1e-12 level.
+TEST(GlobalMapper, Deterministic) {
+  const SyntheticScene scene = Scene(SyntheticScenario::kOrbit, 0);
+  const Outcome a = RunMapper(scene), b = RunMapper(scene);
+  ASSERT_EQ(a.result.init.poses.size(), b.result.init.poses.size());
+  for (const auto& [id, p] : a.result.init.poses) {
+    ASSERT_TRUE(b.result.init.poses.count(id)) << id;
+    EXPECT_LT(RotationAngleDeg(p.R(), b.result.init.poses.at(id).R()), 1e-9) << id;
+    EXPECT_LT((p.C() - b.result.init.poses.at(id).C()).norm(), 1e-9 * scene.extent) << id;
+  }
+  ASSERT_EQ(a.result.init.triplets.size(), b.result.init.triplets.size());
+  for (size_t t = 0; t < a.result.init.triplets.size(); ++t)
+    EXPECT_EQ(a.result.init.triplets[t].image_ids, b.result.init.triplets[t].image_ids);
+  EXPECT_EQ(a.result.pairs.size(), b.result.pairs.size());
+}
+
+// Tracks whose view graph falls apart: every track of an orbit is cut where it passes
+// between the first images and the others, so the last images form their own component.
+// The largest one is reconstructed and the others are named as dropped.
+TEST(GlobalMapper, DisconnectedViewGraphKeepsTheLargestComponent) {
+  SyntheticScene scene = Scene(SyntheticScenario::kOrbit, 0);
+  std::set<uint32_t> small;
+  for (const auto& [id, im] : scene.input.images)
+    if (small.size() < 5 && id > 3) small.insert(id);  // a run of ring neighbours
+  Reconstruction& rec = scene.input;
+  std::map<uint64_t, Point3D> points;
+  uint64_t next = 1;
+  for (const auto& [pid, point] : rec.points3D) {
+    Point3D parts[2];
+    for (const TrackElement& e : point.track) parts[small.count(e.image_id)].track.push_back(e);
+    for (Point3D& part : parts) {
+      if (part.track.size() < 2) {
+        for (const TrackElement& e : part.track) rec.images.at(e.image_id).points2D[e.point2D_idx].point3D_id = kNoPoint3D;
+        continue;
+      }
+      part.point3D_id = next++;
+      for (const TrackElement& e : part.track)
+        rec.images.at(e.image_id).points2D[e.point2D_idx].point3D_id = static_cast<int64_t>(part.point3D_id);
+      points.emplace(part.point3D_id, part);
+    }
+  }
+  rec.points3D = std::move(points);
+  ASSERT_EQ(rec.CheckConsistency(), "");
+  Outcome o = RunMapper(scene);
+  EXPECT_EQ(o.result.init.poses.size(), scene.input.images.size() - small.size());
+  std::set<std::string> expected, dropped(o.result.init.images_dropped.begin(), o.result.init.images_dropped.end());
+  for (uint32_t id : small) expected.insert(scene.input.images.at(id).name);
+  EXPECT_EQ(dropped, expected);
+  EXPECT_EQ(o.report["images_dropped"].size(), small.size());
+  for (uint32_t id : small) EXPECT_FALSE(o.result.init.poses.count(id));
+}
+
+}  // namespace
+}  // namespace pgba
