@@ -1,5 +1,7 @@
 #include "pgba/io/workspace.h"
 
+#include "pgba/io/workspace_json.h"
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -15,120 +17,14 @@ namespace {
 
 using nlohmann::json;
 namespace fs = std::filesystem;
+using Reader = WorkspaceJsonReader;
+using internal_workspace::Array;
+using internal_workspace::Document;
+using internal_workspace::NameOf;
+using internal_workspace::RowMajor;
 
 const char* kPairsFormat = "pgba_pairs";
 const char* kTripletsFormat = "pgba_triplets";
-
-json RowMajor(const Eigen::Matrix3d& M) {
-  json j = json::array();
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) j.push_back(M(r, c));
-  return j;
-}
-
-json Array(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
-
-const std::string& NameOf(const Reconstruction& tracks, uint32_t id, const fs::path& path) {
-  auto it = tracks.images.find(id);
-  if (it == tracks.images.end())
-    ThrowInputError(path.string(), 0, "cannot write image id " + std::to_string(id) + ": not in the tracks model");
-  return it->second.name;
-}
-
-// "{header, "key": [\n entry,\n entry\n]}\n": one entry per line.
-std::string Document(const char* format, const char* key, const std::vector<json>& entries) {
-  std::ostringstream out;
-  out << "{\"format\": \"" << format << "\", \"version\": " << kWorkspaceVersion << ", \"" << key << "\": [";
-  for (size_t k = 0; k < entries.size(); ++k) out << (k ? ",\n" : "\n") << entries[k].dump();
-  out << "\n]}\n";
-  return out.str();
-}
-
-// Reading: every problem becomes "FILE: WHERE: problem".
-class Reader {
- public:
-  Reader(const fs::path& path, const Reconstruction& tracks) : path_(path.string()), tracks_(tracks) {}
-
-  [[noreturn]] void Fail(const std::string& where, const std::string& problem) const {
-    ThrowInputError(path_, 0, where.empty() ? problem : where + ": " + problem);
-  }
-
-  // Parses the file and checks format and version; returns the entry array `key`.
-  json Load(const char* format, const char* key) const {
-    std::ifstream in(path_, std::ios::binary);
-    if (!in) Fail("", "cannot open");
-    std::stringstream buffer;
-    buffer << in.rdbuf();
-    const std::string text = buffer.str();
-    json doc;
-    try {
-      doc = json::parse(text);
-    } catch (const json::parse_error& e) {
-      const size_t byte = std::min<size_t>(e.byte, text.size());
-      const int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + byte, '\n'));
-      ThrowInputError(path_, line, "invalid JSON");
-    }
-    if (!doc.is_object()) Fail("", "not a JSON object");
-    if (!doc.contains("format") || doc["format"] != format)
-      Fail("", std::string("not a ") + format + " file (\"format\" must be \"" + format + "\")");
-    if (!doc.contains("version") || !doc["version"].is_number_integer())
-      Fail("", "missing integer \"version\"");
-    if (doc["version"].get<int64_t>() != kWorkspaceVersion)
-      Fail("", "workspace version " + doc["version"].dump() + ", this build reads version " +
-                   std::to_string(kWorkspaceVersion) + " (re-run the stage)");
-    if (!doc.contains(key) || !doc[key].is_array()) Fail("", std::string("missing array \"") + key + "\"");
-    return doc[key];
-  }
-
-  const json& Field(const json& j, const char* key, const std::string& where) const {
-    if (!j.is_object() || !j.contains(key)) Fail(where, std::string("missing \"") + key + "\"");
-    return j[key];
-  }
-
-  double Number(const json& j, const std::string& where) const {
-    if (!j.is_number() || !std::isfinite(j.get<double>())) Fail(where, "expected a finite number, got " + j.dump());
-    return j.get<double>();
-  }
-
-  template <int N>
-  Eigen::Matrix<double, N, 1> Numbers(const json& j, const std::string& where) const {
-    if (!j.is_array() || static_cast<int>(j.size()) != N)
-      Fail(where, "expected an array of " + std::to_string(N) + " numbers");
-    Eigen::Matrix<double, N, 1> v;
-    for (int k = 0; k < N; ++k) v(k) = Number(j[k], where);
-    return v;
-  }
-
-  Eigen::Matrix3d Rotation(const json& j, const std::string& where) const {
-    const Eigen::Matrix<double, 9, 1> v = Numbers<9>(j, where);
-    Eigen::Matrix3d R;
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) R(r, c) = v(3 * r + c);
-    if ((R * R.transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-6 || R.determinant() < 0)
-      Fail(where, "not a rotation matrix");
-    return R;
-  }
-
-  int64_t Integer(const json& j, const std::string& where) const {
-    if (!j.is_number_integer()) Fail(where, "expected an integer, got " + j.dump());
-    return j.get<int64_t>();
-  }
-
-  // The image named `name` in the tracks model; its id must equal the stored one.
-  uint32_t Image(const json& name, const json& stored_id, const std::string& where) const {
-    if (!name.is_string()) Fail(where, "image name must be a string");
-    const std::optional<uint32_t> id = tracks_.FindImageByName(name.get<std::string>());
-    if (!id) Fail(where, "unknown image name '" + name.get<std::string>() + "' (workspace of another model?)");
-    if (Integer(stored_id, where) != static_cast<int64_t>(*id))
-      Fail(where, "image '" + name.get<std::string>() + "' has id " + std::to_string(*id) +
-                      " in the tracks model but " + stored_id.dump() + " in the workspace");
-    return *id;
-  }
-
- private:
-  std::string path_;
-  const Reconstruction& tracks_;
-};
 
 }  // namespace
 

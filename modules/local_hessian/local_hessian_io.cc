@@ -1,0 +1,121 @@
+#include "modules/local_hessian/local_hessian_io.h"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <string>
+
+#include "modules/local_hessian/reduced_camera_matrix.h"
+#include "pgba/io/workspace_json.h"
+#include "pgba/util/atomic_file.h"
+
+namespace pgba {
+namespace {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+const char* kFormat = "pgba_local_hessians";
+
+LocalHessianStatus StatusFromName(const WorkspaceJsonReader& reader, const json& j, const std::string& where) {
+  if (j.is_string())
+    for (int s = 0; s < kNumLocalHessianStatus; ++s)
+      if (j.get<std::string>() == LocalHessianStatusName(static_cast<LocalHessianStatus>(s)))
+        return static_cast<LocalHessianStatus>(s);
+  reader.Fail(where, "unknown status " + j.dump());
+}
+
+}  // namespace
+
+fs::path WorkspaceLocalHessiansPath(const fs::path& workspace) { return workspace / "local_hessians.json"; }
+
+void WriteLocalHessians(const fs::path& path, const Reconstruction& tracks, const LocalHessianResult& result) {
+  std::vector<json> entries;
+  for (const LocalHessian& lh : result.hessians) {
+    json e;
+    e["triplet_index"] = lh.triplet_index;
+    e["images"] = json::array();
+    for (uint32_t id : lh.image_ids) e["images"].push_back(internal_workspace::NameOf(tracks, id, path));
+    e["image_ids"] = lh.image_ids;
+    e["status"] = LocalHessianStatusName(lh.status);
+    if (lh.status == LocalHessianStatus::kOk) {
+      e["local_poses"] = json::array();
+      for (const Pose& p : lh.local_poses) {
+        const Eigen::Quaterniond& q = p.q();
+        e["local_poses"].push_back({{"q", {q.w(), q.x(), q.y(), q.z()}}, {"t", internal_workspace::Array(p.t())}});
+      }
+      json h = json::array();
+      for (int r = 0; r < 18; ++r)
+        for (int c = 0; c < 18; ++c) h.push_back(lh.h(r, c));
+      e["h"] = h;
+      e["observation_weight"] = lh.observation_weight;
+      e["depth_scale"] = lh.depth_scale;
+      e["prior_mu"] = lh.prior_mu;
+      e["num_points"] = lh.num_points;
+      e["num_observations"] = lh.num_observations;
+      e["rms_px"] = lh.rms_px;
+      e["eigenvalue_ratio"] = lh.eigenvalue_ratio;
+    }
+    entries.push_back(std::move(e));
+  }
+  WriteStringAtomically(path, internal_workspace::Document(kFormat, "hessians", entries));
+}
+
+LocalHessianResult ReadLocalHessians(const fs::path& path, const Reconstruction& tracks,
+                                     const std::vector<Triplet>& triplets) {
+  const WorkspaceJsonReader reader(path, tracks);
+  const json entries = reader.Load(kFormat, "hessians");
+  if (entries.size() != triplets.size())
+    reader.Fail("", std::to_string(entries.size()) + " hessians for " + std::to_string(triplets.size()) +
+                        " triplets (workspace of another run? re-run the local hessian stage)");
+  LocalHessianResult result;
+  for (size_t k = 0; k < entries.size(); ++k) {
+    const std::string where = "hessians[" + std::to_string(k) + "]";
+    const json& e = entries[k];
+    LocalHessian lh;
+    lh.triplet_index = static_cast<int>(reader.Integer(reader.Field(e, "triplet_index", where), where));
+    if (lh.triplet_index != static_cast<int>(k)) reader.Fail(where, "triplet_index must be " + std::to_string(k));
+    const json& names = reader.Field(e, "images", where);
+    const json& ids = reader.Field(e, "image_ids", where);
+    if (!names.is_array() || names.size() != 3 || !ids.is_array() || ids.size() != 3)
+      reader.Fail(where, "\"images\" and \"image_ids\" must hold three entries");
+    for (int v = 0; v < 3; ++v) {
+      lh.image_ids[v] = reader.Image(names[v], ids[v], where);
+      if (lh.image_ids[v] != triplets[k].image_ids[v])
+        reader.Fail(where, "images differ from triplet " + std::to_string(k) + " of the workspace (another run?)");
+    }
+    lh.status = StatusFromName(reader, reader.Field(e, "status", where), where + ".status");
+    if (lh.status == LocalHessianStatus::kOk) {
+      const json& poses = reader.Field(e, "local_poses", where);
+      if (!poses.is_array() || poses.size() != 3) reader.Fail(where, "\"local_poses\" must hold three entries");
+      for (int v = 0; v < 3; ++v) {
+        const std::string pw = where + ".local_poses[" + std::to_string(v) + "]";
+        const Eigen::Vector4d q = reader.Numbers<4>(reader.Field(poses[v], "q", pw), pw + ".q");
+        if (!(q.norm() > 0.5 && q.norm() < 2.0)) reader.Fail(pw, "quaternion is not unit");
+        lh.local_poses[v] = Pose::FromQt(Eigen::Quaterniond(q(0), q(1), q(2), q(3)),
+                                         reader.Numbers<3>(reader.Field(poses[v], "t", pw), pw + ".t"));
+      }
+      const Eigen::Matrix<double, 324, 1> h = reader.Numbers<324>(reader.Field(e, "h", where), where + ".h");
+      for (int r = 0; r < 18; ++r)
+        for (int c = 0; c < 18; ++c) lh.h(r, c) = h(18 * r + c);
+      const double scale = lh.h.cwiseAbs().maxCoeff();
+      if (!(scale > 0)) reader.Fail(where + ".h", "zero matrix");
+      if ((lh.h - lh.h.transpose()).cwiseAbs().maxCoeff() > 1e-9 * scale) reader.Fail(where + ".h", "not symmetric");
+      if (Eigen::SelfAdjointEigenSolver<Matrix18d>(lh.h, Eigen::EigenvaluesOnly).eigenvalues()(0) < -1e-9 * scale)
+        reader.Fail(where + ".h", "not positive semi-definite");
+      DecomposeReducedMatrix(lh.h, &lh.V, &lh.D);  // paper eq. 5
+      lh.observation_weight = reader.Number(reader.Field(e, "observation_weight", where), where);
+      lh.depth_scale = reader.Number(reader.Field(e, "depth_scale", where), where);
+      if (!(lh.observation_weight > 0) || !(lh.depth_scale > 0))
+        reader.Fail(where, "observation_weight and depth_scale must be positive");
+      lh.prior_mu = reader.Number(reader.Field(e, "prior_mu", where), where);
+      lh.num_points = static_cast<int>(reader.Integer(reader.Field(e, "num_points", where), where));
+      lh.num_observations = static_cast<int>(reader.Integer(reader.Field(e, "num_observations", where), where));
+      lh.rms_px = reader.Number(reader.Field(e, "rms_px", where), where);
+      lh.eigenvalue_ratio = reader.Number(reader.Field(e, "eigenvalue_ratio", where), where);
+    }
+    ++result.status_counts[static_cast<int>(lh.status)];
+    result.hessians.push_back(lh);
+  }
+  return result;
+}
+
+}  // namespace pgba

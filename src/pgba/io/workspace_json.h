@@ -1,0 +1,53 @@
+// Shared by the readers and writers of the workspace's JSON artefacts (pairs.json,
+// triplets.json, local_hessians.json): the document layout (format, version, one entry per
+// line) and a reader whose every problem becomes a one-line InputError "FILE: WHERE: problem".
+#pragma once
+
+#include <Eigen/Core>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "pgba/scene/reconstruction.h"
+
+namespace pgba {
+
+namespace internal_workspace {
+nlohmann::json RowMajor(const Eigen::Matrix3d& M);
+nlohmann::json Array(const Eigen::Vector3d& v);
+// The name of image `id` in `tracks` (InputError naming `path` if absent).
+const std::string& NameOf(const Reconstruction& tracks, uint32_t id, const std::filesystem::path& path);
+// "{"format": F, "version": V, "key": [\n entry,\n entry\n]}\n".
+std::string Document(const char* format, const char* key, const std::vector<nlohmann::json>& entries);
+}  // namespace internal_workspace
+
+class WorkspaceJsonReader {
+ public:
+  WorkspaceJsonReader(const std::filesystem::path& path, const Reconstruction& tracks)
+      : path_(path.string()), tracks_(tracks) {}
+
+  [[noreturn]] void Fail(const std::string& where, const std::string& problem) const;
+  // Parses the file and checks format and version; returns the entry array `key`.
+  nlohmann::json Load(const char* format, const char* key) const;
+  const nlohmann::json& Field(const nlohmann::json& j, const char* key, const std::string& where) const;
+  double Number(const nlohmann::json& j, const std::string& where) const;
+  template <int N>
+  Eigen::Matrix<double, N, 1> Numbers(const nlohmann::json& j, const std::string& where) const {
+    if (!j.is_array() || static_cast<int>(j.size()) != N)
+      Fail(where, "expected an array of " + std::to_string(N) + " numbers");
+    Eigen::Matrix<double, N, 1> v;
+    for (int k = 0; k < N; ++k) v(k) = Number(j[k], where);
+    return v;
+  }
+  Eigen::Matrix3d Rotation(const nlohmann::json& j, const std::string& where) const;
+  int64_t Integer(const nlohmann::json& j, const std::string& where) const;
+  // The image named `name` in the tracks model; its id must equal the stored one.
+  uint32_t Image(const nlohmann::json& name, const nlohmann::json& stored_id, const std::string& where) const;
+
+ private:
+  std::string path_;
+  const Reconstruction& tracks_;
+};
+
+}  // namespace pgba

@@ -1,0 +1,117 @@
+// WS/local_hessians.json: a round trip keeps every Hessian (and the decomposition rebuilt
+// from it); a file of another run, a NaN, a broken matrix or a wrong version are one-line
+// errors naming the file and the entry.
+#include "modules/local_hessian/local_hessian_io.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include "pgba/util/error.h"
+#include "tests/local_hessian/ring_scene.h"
+
+namespace pgba {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace pgba::testing;
+
+struct Fixture {
+  Reconstruction rec;
+  std::vector<Triplet> triplets;
+  LocalHessianResult result;
+};
+
+Fixture Make() {
+  RingSceneOptions o;
+  o.num_images = 12;
+  o.num_points = 1500;
+  o.seed = 5;
+  Fixture f;
+  f.rec = MakeRingScene(o);
+  std::mt19937_64 rng(6);
+  f.triplets = MakeRingTriplets(f.rec, 3, false, rng);
+  f.result = ComputeLocalHessians(f.rec, f.triplets, LocalHessianOptions());
+  f.result.hessians[1].status = LocalHessianStatus::kIllConditioned;  // a rejected entry too
+  --f.result.status_counts[static_cast<int>(LocalHessianStatus::kOk)];
+  ++f.result.status_counts[static_cast<int>(LocalHessianStatus::kIllConditioned)];
+  return f;
+}
+
+std::string ReadAll(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::string ErrorOf(const fs::path& p, const Fixture& f, const std::vector<Triplet>& triplets) {
+  try {
+    ReadLocalHessians(p, f.rec, triplets);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(LocalHessianIo, RoundTripKeepsHessiansAndRebuildsTheDecomposition) {
+  const Fixture f = Make();
+  ASSERT_GE(f.result.num_ok(), 4);
+  const fs::path p = fs::temp_directory_path() / "pgba_lh_roundtrip.json";
+  WriteLocalHessians(p, f.rec, f.result);
+  const LocalHessianResult back = ReadLocalHessians(p, f.rec, f.triplets);
+  ASSERT_EQ(back.hessians.size(), f.result.hessians.size());
+  EXPECT_EQ(back.status_counts, f.result.status_counts);
+  for (size_t i = 0; i < back.hessians.size(); ++i) {
+    const LocalHessian &a = f.result.hessians[i], &b = back.hessians[i];
+    EXPECT_EQ(a.status, b.status);
+    EXPECT_EQ(a.image_ids, b.image_ids);
+    if (a.status != LocalHessianStatus::kOk) continue;
+    EXPECT_EQ((a.h - b.h).cwiseAbs().maxCoeff(), 0.0) << i;
+    // W^T W = h whatever eigenvector signs the decomposition picked.
+    const Matrix18d W = b.D.asDiagonal() * b.V;
+    EXPECT_LT((W.transpose() * W - a.h).norm(), 1e-9 * a.h.norm()) << i;
+    EXPECT_EQ(a.observation_weight, b.observation_weight);
+    EXPECT_EQ(a.depth_scale, b.depth_scale);
+    for (int k = 0; k < 3; ++k) EXPECT_LT((a.local_poses[k].C() - b.local_poses[k].C()).norm(), 1e-12);
+  }
+  fs::remove(p);
+}
+
+TEST(LocalHessianIo, ForeignOrDamagedFilesAreErrorsNamingTheEntry) {
+  const Fixture f = Make();
+  const fs::path p = fs::temp_directory_path() / "pgba_lh_damaged.json";
+  WriteLocalHessians(p, f.rec, f.result);
+  const std::string good = ReadAll(p);
+
+  // Another run: fewer triplets, or the triplets in another order.
+  std::vector<Triplet> fewer(f.triplets.begin(), f.triplets.end() - 1);
+  EXPECT_NE(ErrorOf(p, f, fewer).find("hessians for"), std::string::npos);
+  std::vector<Triplet> swapped = f.triplets;
+  std::swap(swapped[0], swapped[2]);
+  const std::string e_swap = ErrorOf(p, f, swapped);
+  EXPECT_NE(e_swap.find("hessians[0]"), std::string::npos) << e_swap;
+  EXPECT_NE(e_swap.find(p.string()), std::string::npos) << e_swap;
+
+  auto with = [&](const std::string& from, const std::string& to) {
+    std::string text = good;
+    const size_t at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    text.replace(at, from.size(), to);
+    std::ofstream(p) << text;
+  };
+  // A non-finite entry (null is how a JSON writer spells NaN) in the first ok Hessian.
+  with("\"h\":[", "\"h\":[null,");
+  EXPECT_NE(ErrorOf(p, f, f.triplets).find(".h"), std::string::npos);
+  with("\"version\": 1", "\"version\": 99");
+  EXPECT_NE(ErrorOf(p, f, f.triplets).find("version"), std::string::npos);
+  with("\"status\":\"ok\"", "\"status\":\"fine\"");
+  EXPECT_NE(ErrorOf(p, f, f.triplets).find("unknown status"), std::string::npos);
+  fs::remove(p);
+}
+
+}  // namespace
+}  // namespace pgba
