@@ -1,4 +1,5 @@
 // pgba init --tracks INPUT --out WS [--config F] [--rotation-outliers F]
+// pgba init --database DB.db --out WS ...   (tracks from a COLMAP database's verified matches)
 //
 // Global initialisation from tracks (a COLMAP text model whose poses and point coordinates
 // are ignored): verified pairs, triplets, rotation and translation averaging, per-triplet
@@ -9,19 +10,26 @@
 
 #include "apps/commands.h"
 #include "mapper/global_mapper.h"
+#include "pgba/io/colmap_database.h"
 #include "pgba/io/colmap_text.h"
+#include "pgba/util/error.h"
 #include "pgba/util/logging.h"
 
 namespace pgba::app {
 
 void RegisterInit(CLI::App& app) {
   struct Args {
-    std::string tracks, out, config;
+    std::string tracks, database, out, config;
     double rotation_outliers = 0.0;
   };
   auto args = std::make_shared<Args>();
   CLI::App* sub = app.add_subcommand("init", "Global initialisation from tracks: pairs, triplets, averaging");
-  sub->add_option("--tracks", args->tracks, "COLMAP text model holding the observations and tracks")->required();
+  CLI::Option* tracks =
+      sub->add_option("--tracks", args->tracks, "COLMAP text model holding the observations and tracks");
+  CLI::Option* database = sub->add_option(
+      "--database", args->database, "COLMAP database.db: tracks from its verified matches (instead of --tracks)");
+  tracks->excludes(database);
+  database->excludes(tracks);
   sub->add_option("--out", args->out, "Workspace directory")->required();
   sub->add_option("--config", args->config, "JSON config (sections pairs, triplets, global_init)");
   sub->add_option("--rotation-outliers", args->rotation_outliers,
@@ -36,10 +44,18 @@ void RegisterInit(CLI::App& app) {
       ReadGlobalMapperOptions(LoadConfig(args->config, schema), &options);
     }
     if (args->rotation_outliers > 0) options.global_init.outliers.fraction = args->rotation_outliers;
-    const Reconstruction tracks = ReadColmapText(args->tracks);
+    if (args->tracks.empty() == args->database.empty())
+      ThrowInputError("--tracks", 0, "give one of --tracks MODEL_DIR or --database DB.db");
+    const Reconstruction tracks = args->database.empty()
+                                      ? ReadColmapText(args->tracks)
+                                      : TracksFromColmapDatabase(ReadColmapDatabase(args->database),
+                                                                 TrackBuilderOptions{}, nullptr, args->database);
     Report report;
     report["command"] = "init";
-    report["tracks"] = args->tracks;
+    if (args->database.empty())
+      report["tracks"] = args->tracks;
+    else
+      report["database"] = args->database;
     const GlobalMapperResult result = RunGlobalMapper(tracks, options, &report);
     WriteGlobalMapperWorkspace(args->out, tracks, result);
     report.Write((std::filesystem::path(args->out) / "report.json").string());

@@ -2,6 +2,11 @@
 // Writes DIR/gt/ (true poses and points, noisy observations), DIR/input/ (same cameras,
 // observations and tracks; poses identity, points at the origin) and, for scenarios that
 // withhold a loop, DIR/loop_pairs.txt.
+//
+// pgba synth --render --out DIR [--seed N] [--images N] [--width W] [--height H] [--focal F]
+//   [--supersampling S] [--image-noise G]
+// Renders photographs of a textured room from a ring of known poses (rendered_scene.h):
+// DIR/images/*.png, DIR/cameras.txt, DIR/gt/ (poses only), DIR/loop.txt.
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -9,6 +14,7 @@
 #include <memory>
 
 #include "apps/commands.h"
+#include "modules/synthetic/rendered_scene.h"
 #include "modules/synthetic/synthetic_scene.h"
 #include "pgba/io/colmap_text.h"
 #include "pgba/io/loop_pairs.h"
@@ -20,11 +26,28 @@ namespace pgba::app {
 namespace {
 
 struct SynthArgs {
-  std::string scenario = "orbit";
+  std::string scenario;
   std::string out;
   int64_t seed = 1;  // signed so that a negative seed is rejected rather than wrapped
   SyntheticOptions options;
+  bool render = false;
+  RenderedSceneOptions render_options;
 };
+
+int RunRender(const SynthArgs& args) {
+  RenderedSceneOptions options = args.render_options;
+  options.seed = static_cast<uint64_t>(args.seed);
+  const RenderedScene scene = RenderRoomScene(options);
+  Timer timer;
+  WriteRenderedScene(scene, args.out);
+  const Camera& cam = scene.gt.cameras.at(1);
+  std::printf("synth --render room (seed %llu): %zu images %dx%d, f %.1f px, ring extent %.2f m, rendered in %.2f s, "
+              "written in %.2f s\n",
+              static_cast<unsigned long long>(options.seed), scene.images.size(), cam.width, cam.height,
+              cam.params[0], scene.extent, scene.seconds, timer.Seconds());
+  std::printf("wrote %s/{images/, cameras.txt, gt/, loop.txt}\n", args.out.c_str());
+  return 0;
+}
 
 int RunSynth(const SynthArgs& args) {
   SyntheticOptions options = args.options;
@@ -65,24 +88,47 @@ int RunSynth(const SynthArgs& args) {
 void RegisterSynth(CLI::App& app) {
   auto args = std::make_shared<SynthArgs>();
   CLI::App* sub = app.add_subcommand("synth", "Generate a synthetic scene with ground truth");
-  sub->add_option("--scenario", args->scenario, "orbit | longfocal | aerial | planar")->required();
-  sub->add_option("--out", args->out, "Output directory (gt/, input/, loop_pairs.txt)")->required();
+  sub->add_option("--scenario", args->scenario, "orbit | longfocal | aerial | planar (tracks only; not with --render)");
+  sub->add_flag("--render", args->render,
+                "Render photographs of a textured room from a ring of known poses instead of tracks");
+  sub->add_option("--out", args->out, "Output directory (gt/, input/, loop_pairs.txt; with --render: images/, "
+                                      "cameras.txt, gt/, loop.txt)")
+      ->required();
   sub->add_option("--seed", args->seed, "Random seed, >= 0 (default 1)");
   sub->add_option("--noise", args->options.noise_px, "Gaussian observation noise, px per coordinate (default 0.5)");
   sub->add_option("--outliers", args->options.outlier_fraction,
                   "Fraction of observations replaced by random pixels, in [0, 1) (default 0)");
-  sub->add_option("--images", args->options.num_images, "Number of images, >= 3 (default: the scenario's)");
+  sub->add_option("--images", args->options.num_images,
+                  "Number of images, >= 3 (default: the scenario's; --render: 20)");
   sub->add_option("--points", args->options.num_points, "Number of scene points (default: the scenario's)");
   sub->add_option("--strips", args->options.num_strips, "aerial: number of strips (default 6, more for big blocks)");
+  sub->add_option("--width", args->render_options.width, "--render: image width, pixels (default 640)");
+  sub->add_option("--height", args->render_options.height, "--render: image height, pixels (default 480)");
+  sub->add_option("--focal", args->render_options.focal_px, "--render: focal length, pixels (default 0.8 x width)");
+  sub->add_option("--supersampling", args->render_options.supersampling,
+                  "--render: samples per pixel and axis, 1..4 (default 2)");
+  sub->add_option("--image-noise", args->render_options.image_noise,
+                  "--render: Gaussian pixel noise, grey levels (default 1.5)");
   AddCommand(app, sub, [args, sub] {
     SynthArgs a = *args;
+    if (a.seed < 0) ThrowInputError("--seed", 0, "must be >= 0, got " + std::to_string(a.seed));
+    static const char* kTrackOnly[] = {"--scenario", "--noise", "--outliers", "--points", "--strips"};
+    static const char* kRenderOnly[] = {"--width", "--height", "--focal", "--supersampling", "--image-noise"};
+    if (a.render) {
+      for (const char* opt : kTrackOnly)
+        if (sub->count(opt)) ThrowInputError(opt, 0, "does not apply to --render");
+      if (sub->count("--images")) a.render_options.num_images = a.options.num_images;
+      return RunRender(a);
+    }
+    for (const char* opt : kRenderOnly)
+      if (sub->count(opt)) ThrowInputError(opt, 0, "only applies with --render");
+    if (!sub->count("--scenario")) ThrowInputError("--scenario", 0, "required (or --render for rendered images)");
     if (sub->count("--images") && a.options.num_images < 3)
       ThrowInputError("--images", 0, "must be >= 3, got " + std::to_string(a.options.num_images));
     if (sub->count("--points") && a.options.num_points < 1)
       ThrowInputError("--points", 0, "must be >= 1, got " + std::to_string(a.options.num_points));
     if (sub->count("--strips") && a.options.num_strips < 1)
       ThrowInputError("--strips", 0, "must be >= 1, got " + std::to_string(a.options.num_strips));
-    if (a.seed < 0) ThrowInputError("--seed", 0, "must be >= 0, got " + std::to_string(a.seed));
     a.options.seed = static_cast<uint64_t>(a.seed);
     if (!(a.options.noise_px >= 0.0 && std::isfinite(a.options.noise_px)))
       ThrowInputError("--noise", 0, "must be a finite number >= 0 px");

@@ -1,5 +1,6 @@
 #include "matching/descriptor_matcher.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -36,16 +37,12 @@ void DescriptorIndex::SearchBestTwo(const cv::Mat& queries, std::vector<int>* be
 
 namespace {
 
-// Best neighbour per query that passes the ratio test and the distance bound, else -1.
-std::vector<int> FilteredBest(const DescriptorIndex& queries, const DescriptorIndex& target,
-                              const DescriptorMatchOptions& options) {
-  std::vector<int> best;
-  std::vector<float> d1, d2;
-  target.SearchBestTwo(queries.data(), &best, &d1, &d2);
+// Marks the best neighbours that fail the ratio test or the distance bound as -1.
+void FilterBest(const std::vector<float>& d1, const std::vector<float>& d2, const DescriptorMatchOptions& options,
+                std::vector<int>* best) {
   const float max_dist = static_cast<float>(options.max_distance * 512.0);
-  for (size_t i = 0; i < best.size(); ++i)
-    if (best[i] < 0 || d1[i] > max_dist || !(d1[i] < options.max_ratio * d2[i])) best[i] = -1;
-  return best;
+  for (size_t i = 0; i < best->size(); ++i)
+    if ((*best)[i] < 0 || d1[i] > max_dist || !(d1[i] < options.max_ratio * d2[i])) (*best)[i] = -1;
 }
 
 }  // namespace
@@ -55,13 +52,34 @@ std::vector<std::pair<uint32_t, uint32_t>> MatchDescriptors(const DescriptorInde
                                                             const DescriptorMatchOptions& options) {
   std::vector<std::pair<uint32_t, uint32_t>> matches;
   if (image1.size() < 2 || image2.size() < 2) return matches;
-  const std::vector<int> forward = FilteredBest(image1, image2, options);
-  std::vector<int> backward;
-  if (options.cross_check) backward = FilteredBest(image2, image1, options);
+  std::vector<int> forward;
+  std::vector<float> d1, d2;
+  image2.SearchBestTwo(image1.data(), &forward, &d1, &d2);
+  FilterBest(d1, d2, options, &forward);
+  // The mutual check only needs the backward best match of the features of image 2 that
+  // some forward match points to: searching those alone returns the same matches for a
+  // fraction of the second search (the kd-forest search of one query does not depend on
+  // the others). Measured on a rendered 20-view room (2400 features per image): matching
+  // 11.4 s -> see git log.
+  std::vector<int> backward_of;  // feature of image 2 -> its filtered best match in image 1
+  if (options.cross_check) {
+    std::vector<int> targets;
+    for (int j : forward)
+      if (j >= 0) targets.push_back(j);
+    std::sort(targets.begin(), targets.end());
+    targets.erase(std::unique(targets.begin(), targets.end()), targets.end());
+    cv::Mat queries(static_cast<int>(targets.size()), image2.data().cols, CV_32F);
+    for (size_t k = 0; k < targets.size(); ++k) image2.data().row(targets[k]).copyTo(queries.row(static_cast<int>(k)));
+    std::vector<int> backward;
+    image1.SearchBestTwo(queries, &backward, &d1, &d2);
+    FilterBest(d1, d2, options, &backward);
+    backward_of.assign(image2.size(), -1);
+    for (size_t k = 0; k < targets.size(); ++k) backward_of[targets[k]] = backward[k];
+  }
   for (size_t i = 0; i < forward.size(); ++i) {
     const int j = forward[i];
     if (j < 0) continue;
-    if (options.cross_check && backward[j] != static_cast<int>(i)) continue;
+    if (options.cross_check && backward_of[j] != static_cast<int>(i)) continue;
     matches.emplace_back(static_cast<uint32_t>(i), static_cast<uint32_t>(j));
   }
   return matches;

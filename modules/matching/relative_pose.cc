@@ -4,6 +4,9 @@
 #include <ceres/rotation.h>
 #include <ceres/sphere_manifold.h>
 
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+
 #include <opengv/relative_pose/CentralRelativeAdapter.hpp>
 #include <opengv/sac/Ransac.hpp>
 #include <opengv/sac_problems/relative_pose/CentralRelativePoseSacProblem.hpp>
@@ -136,6 +139,48 @@ void Refine(const std::vector<Eigen::Vector3d>& b1, const std::vector<Eigen::Vec
   }
 }
 
+// Standard deviation (degrees, largest principal axis) of the rotation estimate: the
+// Gauss-Newton covariance sigma^2 (J^T J)^-1 of the Sampson residuals (pixels) over the
+// inliers, with J taken by central differences in the 5 degrees of freedom (omega: 3, the
+// tangent plane of t: 2) and sigma the inliers' RMS residual. The rotation block of the
+// inverse is the marginal, so rotation/translation coupling (a small or nearly planar patch
+// of matches, where a rotation is mimicked by a translation) shows up as a large value.
+double RotationSdDeg(const std::vector<Eigen::Vector3d>& b1, const std::vector<Eigen::Vector3d>& b2,
+                     const std::vector<uint8_t>& mask, const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
+                     double focal) {
+  Eigen::Vector3d u = t.unitOrthogonal(), v = t.cross(u);
+  const auto residual = [&](size_t i, const Eigen::Matrix<double, 5, 1>& d) {
+    const Eigen::Matrix3d Rd = R * ExpSO3(d.head<3>());
+    const Eigen::Vector3d td = (t + d(3) * u + d(4) * v).normalized();
+    return focal * SampsonAngle(Rd, td, b1[i], b2[i]);
+  };
+  constexpr double h = 1e-6;
+  Eigen::Matrix<double, 5, 5> JtJ = Eigen::Matrix<double, 5, 5>::Zero();
+  double sum_sq = 0.0;
+  int n = 0;
+  for (size_t i = 0; i < mask.size(); ++i) {
+    if (!mask[i]) continue;
+    Eigen::Matrix<double, 5, 1> J;
+    for (int k = 0; k < 5; ++k) {
+      Eigen::Matrix<double, 5, 1> d = Eigen::Matrix<double, 5, 1>::Zero();
+      d(k) = h;
+      J(k) = (residual(i, d) - residual(i, -d)) / (2 * h);
+    }
+    JtJ += J * J.transpose();
+    const double r = residual(i, Eigen::Matrix<double, 5, 1>::Zero());
+    sum_sq += r * r;
+    ++n;
+  }
+  if (n < 6) return std::numeric_limits<double>::infinity();
+  const double sigma2 = sum_sq / (n - 5);
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 5, 5>> eig(JtJ);
+  if (eig.info() != Eigen::Success || !(eig.eigenvalues()(0) > 1e-12 * eig.eigenvalues()(4)))
+    return std::numeric_limits<double>::infinity();
+  const Eigen::Matrix3d cov = sigma2 * JtJ.inverse().topLeftCorner<3, 3>();
+  const double max_var = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvalues()(2);
+  return std::sqrt(std::max(max_var, 0.0)) * 180.0 / M_PI;
+}
+
 }  // namespace
 
 double SampsonAngle(const Eigen::Matrix3d& R_21, const Eigen::Vector3d& t_21, const Eigen::Vector3d& b1,
@@ -201,6 +246,7 @@ RelativePoseResult EstimateRelativePose(const std::vector<Eigen::Vector3d>& bear
     std::nth_element(angles.begin(), angles.begin() + angles.size() / 2, angles.end());
     result.median_triangulation_angle_deg = angles[angles.size() / 2] * 180.0 / M_PI;
   }
+  result.rotation_sd_deg = RotationSdDeg(bearings1, bearings2, result.inlier_mask, R, t, focal_px);
   result.success = n >= options.min_inliers;
   return result;
 }

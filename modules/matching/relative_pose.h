@@ -57,6 +57,11 @@ struct RelativePoseResult {
   // i.e. the triangulation angle: ~0 for a pure rotation or a baseline tiny w.r.t. depth.
   double median_triangulation_angle_deg = 0.0;
   int ransac_iterations = 0;
+  // Standard deviation of the rotation, degrees, along its worst-determined axis: first-order
+  // covariance of the Sampson residuals at the inliers' own noise level (infinity when the
+  // fit is singular). Large when rotation and translation trade off (a small or planar patch
+  // of matches).
+  double rotation_sd_deg = 0.0;
 };
 
 // Estimates the relative pose from unit bearings b1[i] <-> b2[i] (camera frames).

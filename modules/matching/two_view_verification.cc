@@ -24,7 +24,8 @@ std::optional<VerifiedPair> VerifyPair(uint32_t image_id1, const Camera& camera1
   const double focal = 0.5 * (camera1.MeanFocal() + camera2.MeanFocal());
   const RelativePoseResult pose = EstimateRelativePose(b1, b2, focal, rp);
   if (!pose.success || pose.num_inliers < rp.min_inliers ||
-      pose.num_inliers < options.min_inlier_ratio * static_cast<double>(matches.size()))
+      pose.num_inliers < options.min_inlier_ratio * static_cast<double>(matches.size()) ||
+      !(pose.rotation_sd_deg <= options.max_rotation_sd_deg))
     return std::nullopt;
 
   VerifiedPair out;

@@ -16,41 +16,6 @@ namespace {
 
 constexpr double kDegToRad = M_PI / 180.0;
 
-struct RingSpec {
-  const char* name_format;  // printf format of the image name, one %d (view index)
-  double radius;            // metres
-  double radius_jitter;     // std dev, metres
-  double height;            // mean camera height, metres
-  double height_wave;       // amplitude of a smooth height variation around the ring
-  double height_jitter;     // std dev, metres
-  double azimuth_jitter;    // std dev, fraction of the angular step
-  Eigen::Vector3d target;   // look-at point
-  double target_jitter;     // std dev, metres
-  double roll_deg;          // std dev of the roll about the optical axis
-};
-
-std::vector<LayoutView> RingViews(const RingSpec& spec, int n, Rng& rng) {
-  std::normal_distribution<double> gauss(0.0, 1.0);
-  std::uniform_real_distribution<double> phase(0.0, 2.0 * M_PI);
-  const double wave_phase = phase(rng);
-  const double step = 2.0 * M_PI / n;
-  std::vector<LayoutView> views(n);
-  for (int k = 0; k < n; ++k) {
-    const double az = k * step + spec.azimuth_jitter * step * gauss(rng);
-    const double r = spec.radius + spec.radius_jitter * gauss(rng);
-    const double z = spec.height + spec.height_wave * std::sin(2.0 * az + wave_phase) + spec.height_jitter * gauss(rng);
-    const Eigen::Vector3d C(r * std::cos(az), r * std::sin(az), z);
-    const Eigen::Vector3d target =
-        spec.target + spec.target_jitter * Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng));
-    const Eigen::Matrix3d R = ExpSO3(Eigen::Vector3d(0, 0, spec.roll_deg * kDegToRad * gauss(rng))) *
-                              LookAtRotation(C, target, Eigen::Vector3d::UnitZ());
-    char name[64];
-    std::snprintf(name, sizeof(name), spec.name_format, k);
-    views[k] = {name, Pose::FromRC(R, C)};
-  }
-  return views;
-}
-
 // An ellipsoid with a rough surface: points at (1 + relief * U(-1, 1)) times the surface
 // radius, normals of the smooth ellipsoid.
 struct Ellipsoid {
@@ -88,6 +53,28 @@ std::vector<std::vector<uint32_t>> AllViewsGroup(size_t n) {
 }
 
 }  // namespace
+
+std::vector<LayoutView> RingViews(const RingSpec& spec, int n, Rng& rng) {
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  std::uniform_real_distribution<double> phase(0.0, 2.0 * M_PI);
+  const double wave_phase = phase(rng);
+  const double step = 2.0 * M_PI / n;
+  std::vector<LayoutView> views(n);
+  for (int k = 0; k < n; ++k) {
+    const double az = k * step + spec.azimuth_jitter * step * gauss(rng);
+    const double r = spec.radius + spec.radius_jitter * gauss(rng);
+    const double z = spec.height + spec.height_wave * std::sin(2.0 * az + wave_phase) + spec.height_jitter * gauss(rng);
+    const Eigen::Vector3d C(r * std::cos(az), r * std::sin(az), z);
+    const Eigen::Vector3d target =
+        spec.target + spec.target_jitter * Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng));
+    const Eigen::Matrix3d R = ExpSO3(Eigen::Vector3d(0, 0, spec.roll_deg * kDegToRad * gauss(rng))) *
+                              LookAtRotation(C, target, Eigen::Vector3d::UnitZ());
+    char name[64];
+    std::snprintf(name, sizeof(name), spec.name_format, k);
+    views[k] = {name, Pose::FromRC(R, C)};
+  }
+  return views;
+}
 
 SceneLayout MakeOrbitLayout(const SyntheticOptions& options, Rng& rng) {
   const int n = options.num_images > 0 ? options.num_images : 70;

@@ -104,6 +104,23 @@ std::vector<Sighting> SelectTrackViews(const std::vector<Sighting>& sightings, c
 void WithholdLoop(const SceneLayout& layout, std::vector<SyntheticTrack>* tracks,
                   std::vector<LoopCorrespondence>* pairs);
 
+// Views on a (slightly wavy, jittered) horizontal circle about the z axis, each looking at
+// `target` (jittered) with image x horizontal; view k at azimuth about k * 360 / n degrees.
+// Shared by the ring scenarios and the rendered room (rendered_scene.cc).
+struct RingSpec {
+  const char* name_format;  // printf format of the image name, one %d (view index)
+  double radius;            // metres
+  double radius_jitter;     // std dev, metres
+  double height;            // mean camera height, metres
+  double height_wave;       // amplitude of a smooth height variation around the ring
+  double height_jitter;     // std dev, metres
+  double azimuth_jitter;    // std dev, fraction of the angular step
+  Eigen::Vector3d target;   // look-at point
+  double target_jitter;     // std dev, metres
+  double roll_deg;          // std dev of the roll about the optical axis
+};
+std::vector<LayoutView> RingViews(const RingSpec& spec, int n, Rng& rng);
+
 // Camera looking from C at `target`, image x axis horizontal (perpendicular to `up`), image
 // y axis pointing down.
 Eigen::Matrix3d LookAtRotation(const Eigen::Vector3d& C, const Eigen::Vector3d& target, const Eigen::Vector3d& up);

@@ -1,12 +1,16 @@
 // `pgba synth` end to end: writes gt/, input/ and loop_pairs.txt that read back into the
-// scene the library generates; bad arguments exit with code 2 and a one-line error.
+// scene the library generates; `--render` writes the image dataset layout; bad arguments
+// exit with code 2 and a one-line error.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
 #include <array>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
 
+#include "modules/synthetic/rendered_scene.h"
 #include "modules/synthetic/synthetic_scene.h"
 #include "pgba/io/colmap_text.h"
 #include "pgba/io/loop_pairs.h"
@@ -89,6 +93,53 @@ TEST(SynthCli, BadArgumentsExitWithCode2) {
     EXPECT_NE(r.output.find(names), std::string::npos) << args << ": " << r.output;
   }
   EXPECT_FALSE(fs::exists(out / "gt"));
+}
+
+TEST(SynthCli, RenderWritesImagesCalibrationGroundTruthAndLoop) {
+  const fs::path out = TempDir("render");
+  const CliResult r = RunPgba("synth --render --images 4 --width 128 --height 96 --seed 3 --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("4 images 128x96"), std::string::npos) << r.output;
+  RenderedSceneOptions o;
+  o.num_images = 4;
+  o.width = 128;
+  o.height = 96;
+  o.seed = 3;
+  const RenderedScene expected = RenderRoomScene(o);
+  const Reconstruction gt = ReadColmapText((out / "gt").string());
+  ASSERT_EQ(gt.images.size(), 4u);
+  for (const auto& [id, im] : gt.images) {
+    EXPECT_EQ(im.name, expected.gt.images.at(id).name);
+    EXPECT_LT((im.pose.C() - expected.gt.images.at(id).pose.C()).norm(), 1e-12);
+    const cv::Mat img = cv::imread((out / "images" / im.name).string(), cv::IMREAD_UNCHANGED);
+    ASSERT_FALSE(img.empty()) << im.name;
+    EXPECT_EQ(cv::norm(img, expected.images[id - 1], cv::NORM_INF), 0.0) << im.name;
+  }
+  EXPECT_TRUE(fs::exists(out / "cameras.txt"));
+  EXPECT_TRUE(fs::exists(out / "loop.txt"));
+  // Fewer images into the same folder: no stale image is left to join the set.
+  ASSERT_EQ(RunPgba("synth --render --images 3 --width 128 --height 96 --out " + out.string()).code, 0);
+  EXPECT_EQ(std::distance(fs::directory_iterator(out / "images"), fs::directory_iterator()), 3);
+  fs::remove_all(out);
+}
+
+TEST(SynthCli, RenderBadArgumentsExitWithCode2) {
+  const fs::path out = TempDir("render_bad");
+  const std::vector<std::pair<std::string, std::string>> cases = {{"--render --images 2", "--images"},
+                                                                  {"--render --noise 1", "--noise"},
+                                                                  {"--render --scenario orbit", "--scenario"},
+                                                                  {"--render --supersampling 0", "--supersampling"},
+                                                                  {"--render --width 8", "--width"},
+                                                                  {"--render --focal -5", "--focal"},
+                                                                  {"--render --image-noise -1", "--image-noise"},
+                                                                  {"--scenario orbit --width 320", "--width"},
+                                                                  {"--seed 2", "--scenario"}};
+  for (const auto& [args, names] : cases) {
+    const CliResult r = RunPgba("synth " + args + " --out " + out.string());
+    EXPECT_EQ(r.code, 2) << args << ": " << r.output;
+    EXPECT_NE(r.output.find(names), std::string::npos) << args << ": " << r.output;
+  }
+  EXPECT_FALSE(fs::exists(out / "images"));
 }
 
 }  // namespace
