@@ -1,9 +1,10 @@
-// pgba reconstruct --tracks INPUT --out OUT [--config F]
+// pgba reconstruct --tracks INPUT --out OUT [--config F] [--gcp GCP_FILE]
 //
 // From tracks (a COLMAP text model whose poses and points are ignored) to the final poses:
 // global initialisation, local hessian BA per triplet, pointless global BA. Writes
 // OUT/sparse/ (COLMAP text model), OUT/points.ply, OUT/report.json and the workspace files
-// of `init` (OUT/pairs.json, OUT/triplets.json, OUT/init/).
+// of `init` (OUT/pairs.json, OUT/triplets.json, OUT/init/). With --gcp, the result is in the
+// GCP frame (the GCP file format: src/pgba/io/gcp_file.h).
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -11,13 +12,14 @@
 #include "apps/commands.h"
 #include "mapper/reconstruction_pipeline.h"
 #include "pgba/io/colmap_text.h"
+#include "pgba/io/gcp_file.h"
 #include "pgba/util/logging.h"
 
 namespace pgba::app {
 
 void RegisterReconstruct(CLI::App& app) {
   struct Args {
-    std::string tracks, out, config;
+    std::string tracks, out, config, gcp;
   };
   auto args = std::make_shared<Args>();
   CLI::App* sub =
@@ -25,9 +27,12 @@ void RegisterReconstruct(CLI::App& app) {
   sub->add_option("--tracks", args->tracks, "COLMAP text model holding the observations and tracks")->required();
   sub->add_option("--out", args->out, "Output directory")->required();
   sub->add_option("--config", args->config, "JSON config (sections of init plus local_hessian, global_ba)");
+  sub->add_option("--gcp", args->gcp, "Ground control points (GCP/OBS lines): the result is put in their frame");
 
   AddCommand(app, sub, [args] {
-    const ReconstructionOptions options = LoadReconstructionOptions(args->config);
+    ReconstructionOptions options = LoadReconstructionOptions(args->config);
+    options.gcp_path = args->gcp;
+    if (!args->gcp.empty()) ReadGcpFile(args->gcp);  // a malformed file fails before any work
     const Reconstruction tracks = ReadColmapText(args->tracks);
     Report report;
     report["command"] = "reconstruct";

@@ -1,4 +1,5 @@
 // pgba run --images DIR [--calib cameras.txt] --out OUT [--config configs/X.json] [--gt GT]
+//          [--gcp GCP_FILE]
 //
 // The whole pipeline from a folder of calibrated photos: features, matching, global
 // initialisation, local hessians, pointless global BA. OUT is a resumable workspace (cached
@@ -14,6 +15,7 @@
 #include "benchmark/html_report.h"
 #include "mapper/run_pipeline.h"
 #include "pgba/io/colmap_text.h"
+#include "pgba/io/gcp_file.h"
 #include "pgba/util/atomic_file.h"
 #include "pgba/util/error.h"
 #include "pgba/util/logging.h"
@@ -22,7 +24,7 @@ namespace pgba::app {
 
 void RegisterRun(CLI::App& app) {
   struct Args {
-    std::string images, out, config, gt;
+    std::string images, out, config, gt, gcp;
     CalibrationInput calib;
   };
   auto args = std::make_shared<Args>();
@@ -35,10 +37,13 @@ void RegisterRun(CLI::App& app) {
   sub->add_option("--out", args->out, "Output folder (also the resumable workspace)")->required();
   sub->add_option("--config", args->config, "JSON config or a preset of configs/");
   sub->add_option("--gt", args->gt, "Ground-truth COLMAP text model to evaluate the result against");
+  sub->add_option("--gcp", args->gcp, "Ground control points (GCP/OBS lines): the result is put in their frame");
 
   AddCommand(app, sub, [args] {
     namespace fs = std::filesystem;
-    const RunOptions options = LoadRunOptions(args->config);
+    RunOptions options = LoadRunOptions(args->config);
+    options.reconstruction.gcp_path = args->gcp;
+    if (!args->gcp.empty()) ReadGcpFile(args->gcp);  // a malformed file fails before any work
     Reconstruction gt;
     if (!args->gt.empty()) gt = ReadColmapText(args->gt, /*points_optional=*/true);
     const fs::path out(args->out);

@@ -21,5 +21,6 @@ void RegisterMatch(CLI::App& app);
 void RegisterReconstruct(CLI::App& app);
 void RegisterBenchmark(CLI::App& app);
 void RegisterRun(CLI::App& app);
+void RegisterConvert(CLI::App& app);
 
 }  // namespace pgba::app

@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
   app::RegisterReconstruct(app);
   app::RegisterBenchmark(app);
   app::RegisterRun(app);
+  app::RegisterConvert(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -7,6 +7,8 @@
 #include <memory>
 #include <thread>
 
+#include "modules/global_ba/gcp_residual.h"
+#include "modules/global_ba/gcp_terms.h"
 #include "modules/global_ba/triplet_residual.h"
 #include "modules/global_ba/triplet_selection.h"
 #include "modules/global_ba/triplet_similarity.h"
@@ -32,6 +34,9 @@ struct TripletTerm {
 struct Unknowns {
   std::map<uint32_t, PoseBlock> poses;  // std::map: stable addresses for Ceres
   std::vector<TripletTerm> terms;
+  const GcpInput* gcps = nullptr;  // optional
+  std::vector<GcpTripletTerm> gcp_terms;
+  bool gcp_gauge = false;  // the GCPs fix the gauge
 };
 
 std::map<uint32_t, Pose> CurrentPoses(const Unknowns& u) {
@@ -143,7 +148,14 @@ ceres::Solver::Summary SolveRound(const GlobalBAOptions& options, double sigma, 
     problem.AddResidualBlock(TripletMotionResidual::Create(MakeResidual(*u, t)), loss, u->poses.at(ids[0]).x.data(),
                              u->poses.at(ids[1]).x.data(), u->poses.at(ids[2]).x.data(), t.sim.x.data());
   }
-  FixGauge(options, u, &problem);
+  for (const GcpTripletTerm& g : u->gcp_terms) {
+    TripletTerm& t = u->terms[g.term];
+    ceres::LossFunction* huber =
+        u->gcps->options.huber_sigmas > 0 ? new ceres::HuberLoss(u->gcps->options.huber_sigmas) : nullptr;
+    problem.AddResidualBlock(GcpResidual::Create(GcpResidual(g, t.sim)),
+                             new ceres::ScaledLoss(huber, g.weight, ceres::TAKE_OWNERSHIP), t.sim.x.data());
+  }
+  if (!u->gcp_gauge) FixGauge(options, u, &problem);
 
   ceres::Solver::Options so;
   so.linear_solver_type = ceres::SPARSE_SCHUR;
@@ -164,7 +176,7 @@ ceres::Solver::Summary SolveRound(const GlobalBAOptions& options, double sigma, 
 
 GlobalBAResult RunGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const std::vector<Triplet>& triplets,
                            const std::vector<LocalHessian>& hessians, const GlobalBAOptions& options,
-                           const GlobalBAIterationCallback& callback) {
+                           const GlobalBAIterationCallback& callback, const GcpInput* gcps) {
   Timer timer;
   const TripletSelection sel = SelectTriplets(initial_poses, triplets, hessians);
   if (sel.hessian_indices.empty())
@@ -186,6 +198,16 @@ GlobalBAResult RunGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const 
                 : SimilarityFromSim3(global, triplet.global_to_local);
     u.terms.push_back(t);
   }
+  if (gcps && !gcps->gcps.empty()) {
+    std::vector<const LocalHessian*> used;
+    for (const TripletTerm& t : u.terms) used.push_back(t.hessian);
+    u.gcps = gcps;
+    u.gcp_terms = BuildGcpTerms(*gcps, used);
+    u.gcp_gauge = GcpTermsFixGauge(*gcps, u.gcp_terms);
+    if (!u.gcp_gauge)
+      PGBA_LOG_WARN << "global BA: fewer than 3 non-collinear GCPs seen in triplets; the gauge stays fixed by a "
+                       "triplet and the GCPs only act through the frame transfer and their residuals";
+  }
 
   GlobalBAResult result;
   GlobalBASummary& summary = result.summary;
@@ -194,6 +216,8 @@ GlobalBAResult RunGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const 
   summary.num_params = 6 * summary.num_poses + 7 * summary.num_triplets;
   summary.num_triplets_excluded = sel.num_excluded;
   summary.excluded_images = sel.excluded_images;
+  summary.num_gcp_residuals = static_cast<int>(u.gcp_terms.size());
+  summary.gcp_gauge = u.gcp_gauge;
   if (sel.num_excluded > 0 || !sel.excluded_images.empty())
     PGBA_LOG_WARN << "global BA: " << sel.num_excluded << " triplets and " << sel.excluded_images.size()
                   << " images excluded (no usable local hessian, no initial pose, or outside the largest "
@@ -236,16 +260,16 @@ GlobalBAResult RunGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const 
 
 GlobalBAResult PointlessGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const std::vector<Triplet>& triplets,
                                  const std::vector<LocalHessian>& hessians, const GlobalBAOptions& options,
-                                 const GlobalBAIterationCallback& callback) {
-  return RunGlobalBA(initial_poses, triplets, hessians, options, callback);
+                                 const GlobalBAIterationCallback& callback, const GcpInput* gcps) {
+  return RunGlobalBA(initial_poses, triplets, hessians, options, callback, gcps);
 }
 
 GlobalBAResult AveragingGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const std::vector<Triplet>& triplets,
                                  const std::vector<LocalHessian>& hessians, const GlobalBAOptions& options,
-                                 const GlobalBAIterationCallback& callback) {
+                                 const GlobalBAIterationCallback& callback, const GcpInput* gcps) {
   GlobalBAOptions scalar = options;
   scalar.weighting = TripletWeighting::kScalar;
-  return RunGlobalBA(initial_poses, triplets, hessians, scalar, callback);
+  return RunGlobalBA(initial_poses, triplets, hessians, scalar, callback, gcps);
 }
 
 }  // namespace pgba

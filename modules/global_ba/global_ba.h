@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "modules/global_ba/gcp_constraint.h"
 #include "modules/local_hessian/local_hessian.h"
 #include "pgba/geometry/pose.h"
 #include "pgba/geometry/sim3.h"
@@ -114,6 +115,10 @@ struct GlobalBASummary {
   // Triplets whose final IRLS weight is below 0.5 (treated as outliers).
   int num_triplets_downweighted = 0;
   double robust_scale = 0.0;  // final sigma of the fitting errors (px-like units)
+  // With GCPs: residuals added (one per triplet and GCP seen in >= 2 of its images), and
+  // whether they fix the gauge (>= 3 non-collinear GCPs; no pose or similarity held then).
+  int num_gcp_residuals = 0;
+  bool gcp_gauge = false;
 };
 
 struct GlobalBAResult {
@@ -127,14 +132,16 @@ struct GlobalBAResult {
 
 // Pointless global BA. `hessians` come from ComputeLocalHessians on `triplets` (matched by
 // LocalHessian::triplet_index; a mismatch of image ids is an InputError). Uses
-// options.weighting (kHessian by default).
+// options.weighting (kHessian by default). Optional `gcps` (paper, "Inclusion of ground
+// control points"; gcp_residual.h): the initial poses must already be in the GCP frame
+// (AlignToGcps of gcp_alignment.h).
 GlobalBAResult PointlessGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const std::vector<Triplet>& triplets,
                                  const std::vector<LocalHessian>& hessians, const GlobalBAOptions& options,
-                                 const GlobalBAIterationCallback& callback = nullptr);
+                                 const GlobalBAIterationCallback& callback = nullptr, const GcpInput* gcps = nullptr);
 
 // Aver_BA: the same problem and code path with TripletWeighting::kScalar.
 GlobalBAResult AveragingGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const std::vector<Triplet>& triplets,
                                  const std::vector<LocalHessian>& hessians, const GlobalBAOptions& options,
-                                 const GlobalBAIterationCallback& callback = nullptr);
+                                 const GlobalBAIterationCallback& callback = nullptr, const GcpInput* gcps = nullptr);
 
 }  // namespace pgba

@@ -129,15 +129,15 @@ RefinementResult RefinePointBased(const Reconstruction& tracks, const std::map<u
 
 RefinementResult RefineWithTriplets(RefinementMethod method, const std::map<uint32_t, Pose>& initial,
                                     const std::vector<Triplet>& triplets, const PreparedHessians& hessians,
-                                    const GlobalBAOptions& options, bool record_history) {
+                                    const GlobalBAOptions& options, bool record_history, const GcpInput* gcps) {
   RefinementResult r;
   r.prepare_seconds = hessians.seconds;
   ResetPeakRss();
   GlobalBAIterationCallback callback;
   if (record_history) callback = [&r](const GlobalBAIteration& it) { r.history.push_back(*it.poses); };
   const GlobalBAResult g = method == RefinementMethod::kPointless
-                               ? PointlessGlobalBA(initial, triplets, hessians.result.hessians, options, callback)
-                               : AveragingGlobalBA(initial, triplets, hessians.result.hessians, options, callback);
+                               ? PointlessGlobalBA(initial, triplets, hessians.result.hessians, options, callback, gcps)
+                               : AveragingGlobalBA(initial, triplets, hessians.result.hessians, options, callback, gcps);
   r.adjust_seconds = g.summary.seconds;
   r.peak_rss_mb = std::max(PeakRssMb(), hessians.peak_rss_mb);
   r.poses = g.poses;
@@ -150,6 +150,7 @@ RefinementResult RefineWithTriplets(RefinementMethod method, const std::map<uint
                {"rounds", g.summary.rounds},
                {"fitting_scale", g.summary.robust_scale},
                {"local_hessians", HessianStatusCounts(hessians.result)}};
+  if (gcps) r.details["gcp_residuals"] = g.summary.num_gcp_residuals;
   return r;
 }
 
@@ -158,13 +159,13 @@ RefinementResult RefineWithTriplets(RefinementMethod method, const std::map<uint
 RefinementResult RefinePoses(RefinementMethod method, const Reconstruction& tracks,
                              const std::map<uint32_t, Pose>& initial, const std::vector<Triplet>& triplets,
                              const PreparedHessians* hessians, const RefinementOptions& options,
-                             bool record_history) {
+                             bool record_history, const GcpInput* gcps) {
   RefinementResult r;
   if (method == RefinementMethod::kPointBased) {
     r = RefinePointBased(tracks, initial, options.point_based, record_history);
   } else {
     if (!hessians) throw std::invalid_argument("RefinePoses: local hessians are required for this method");
-    r = RefineWithTriplets(method, initial, triplets, *hessians, options.global_ba, record_history);
+    r = RefineWithTriplets(method, initial, triplets, *hessians, options.global_ba, record_history, gcps);
   }
   r.method = method;
   PGBA_LOG_INFO << RefinementMethodName(method) << ": " << r.poses.size() << " poses, " << r.num_params

@@ -75,10 +75,12 @@ PreparedHessians PrepareLocalHessians(const Reconstruction& tracks, const std::v
 
 // Refines `initial` by `method`. `hessians` (from PrepareLocalHessians on the same
 // triplets) is required for pointless and averaging and ignored by pointbased. Throws
-// InputError when the method cannot run (no usable triplet, no point).
+// InputError when the method cannot run (no usable triplet, no point). Optional `gcps`:
+// GCP residuals of the pointless / averaging global BA (`initial` already in the GCP frame,
+// gcp_alignment.h); ignored by pointbased.
 RefinementResult RefinePoses(RefinementMethod method, const Reconstruction& tracks,
                              const std::map<uint32_t, Pose>& initial, const std::vector<Triplet>& triplets,
                              const PreparedHessians* hessians, const RefinementOptions& options,
-                             bool record_history = false);
+                             bool record_history = false, const GcpInput* gcps = nullptr);
 
 }  // namespace pgba

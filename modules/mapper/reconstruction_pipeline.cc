@@ -1,6 +1,7 @@
 #include "mapper/reconstruction_pipeline.h"
 
 #include <filesystem>
+#include <optional>
 
 #include "evaluation/sigma.h"
 #include "pgba/io/colmap_text.h"
@@ -13,11 +14,13 @@ namespace pgba {
 void AddReconstructionSections(ConfigSchema* schema) {
   AddGlobalMapperSections(schema);
   AddRefinementSections(schema);
+  schema->Add("gcp", GcpOptions{});
 }
 
 void ReadReconstructionOptions(const Config& config, ReconstructionOptions* options) {
   ReadGlobalMapperOptions(config, &options->mapper);
   ReadRefinementOptions(config, &options->refinement);
+  ReadSection(config, "gcp", &options->gcp);
 }
 
 ReconstructionOptions LoadReconstructionOptions(const std::string& path) {
@@ -28,6 +31,35 @@ ReconstructionOptions LoadReconstructionOptions(const std::string& path) {
   ReadReconstructionOptions(LoadConfig(path, schema), &options);
   return options;
 }
+
+namespace {
+
+// With a GCP file: the initial solution moved into the GCP frame (stage "gcp_alignment").
+std::optional<GcpInput> TransferToGcpFrame(const Reconstruction& tracks, const ReconstructionOptions& options,
+                                           Report* report, GlobalInitResult* init) {
+  if (options.gcp_path.empty()) return std::nullopt;
+  StageTimer timer(report, "gcp_alignment");
+  GcpInput gcps = LoadGcps(options.gcp_path, tracks, options.gcp);
+  const GcpAlignment a = AlignToGcps(gcps, &init->poses, &init->triplets);
+  nlohmann::json& stage = timer.Stop();
+  stage["file"] = options.gcp_path;
+  stage["gcps"] = gcps.gcps.size();
+  stage["gcps_triangulated"] = a.num_gcps_used;
+  stage["scale"] = a.transform.s;
+  stage["rms_m"] = a.rms_before;
+  return gcps;
+}
+
+// The GCPs triangulated with the final poses vs their coordinates (stage "gcp_check").
+void CheckFinalGcps(const GcpInput& gcps, const std::map<uint32_t, Pose>& poses, Report* report) {
+  StageTimer timer(report, "gcp_check");
+  const GcpCheck check = CheckGcps(gcps, poses);
+  timer.Stop().update(check.ToJson());
+  PGBA_LOG_INFO << "GCPs with the final poses: " << check.num_gcps << " triangulated, RMS " << check.rms << " m, max "
+                << check.max << " m";
+}
+
+}  // namespace
 
 ReconstructionOutput Reconstruct(const Reconstruction& tracks, const ReconstructionOptions& options, Report* report,
                                  bool record_convergence) {
@@ -42,10 +74,11 @@ ReconstructionOutput Reconstruct(const Reconstruction& tracks, const Reconstruct
     for (int s = 1; s < kNumLocalHessianStatus; ++s)
       stage["rejected"][LocalHessianStatusName(static_cast<LocalHessianStatus>(s))] = out.hessians.result.status_counts[s];
   }
+  const std::optional<GcpInput> gcps = TransferToGcpFrame(tracks, options, report, &out.init.init);
   {
     StageTimer timer(report, "global_ba");
     out.refined = RefinePoses(RefinementMethod::kPointless, tracks, out.init.init.poses, out.init.init.triplets,
-                              &out.hessians, options.refinement, record_convergence);
+                              &out.hessians, options.refinement, record_convergence, gcps ? &*gcps : nullptr);
     nlohmann::json& stage = timer.Stop();
     stage["params"] = out.refined.num_params;
     stage["iterations"] = out.refined.iterations;
@@ -53,6 +86,7 @@ ReconstructionOutput Reconstruct(const Reconstruction& tracks, const Reconstruct
     stage.update(out.refined.details);
     stage.erase("local_hessians");
   }
+  if (gcps) CheckFinalGcps(*gcps, out.refined.poses, report);
   if (record_convergence) {
     StageTimer timer(report, "convergence");
     for (const auto& poses : out.refined.history) out.convergence.push_back(EvaluateSigma(tracks, poses).rms);

@@ -6,6 +6,7 @@
 
 #include <string>
 
+#include "global_ba/gcp_alignment.h"
 #include "mapper/global_mapper.h"
 #include "mapper/pose_refinement.h"
 #include "pgba/io/json_config.h"
@@ -17,6 +18,10 @@ namespace pgba {
 struct ReconstructionOptions {
   GlobalMapperOptions mapper;    // sections "pairs", "triplets", "global_init"
   RefinementOptions refinement;  // sections "local_hessian", "global_ba", "point_based"
+  // Optional GCP file (io/gcp_file.h; empty: none): the initial solution is moved into the
+  // GCP frame and the pointless global BA gets GCP residuals (gcp_residual.h).
+  std::string gcp_path;
+  GcpOptions gcp;  // section "gcp"
 };
 void AddReconstructionSections(ConfigSchema* schema);
 void ReadReconstructionOptions(const Config& config, ReconstructionOptions* options);
@@ -34,8 +39,9 @@ struct ReconstructionOutput {
 };
 
 // Every stage, timed in `report` ("pairs", "triplets", "global_init", "local_hessians",
-// "global_ba", "triangulation", and "convergence" if requested); InputError when no
-// reconstruction is possible.
+// "global_ba", "triangulation", and "convergence" if requested; with GCPs also
+// "gcp_alignment" and "gcp_check", the GCPs triangulated with the final poses vs their given
+// coordinates); InputError when no reconstruction is possible.
 ReconstructionOutput Reconstruct(const Reconstruction& tracks, const ReconstructionOptions& options, Report* report,
                                  bool record_convergence = false);
 

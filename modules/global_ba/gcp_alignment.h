@@ -1,0 +1,41 @@
+// Frame transfer of the initial global solution to the GCP frame (paper, "Inclusion of
+// ground control points", first step): the GCPs triangulated with the initial poses are
+// mapped onto their given coordinates by a least-squares similarity T (Umeyama), and T is
+// applied to every initial pose; each triplet's global->local similarity d_s becomes
+// d_s T^-1, so that the local frames and the relative motions are unchanged. The global BA
+// that follows then starts in the GCP frame and its GCP residuals (gcp_residual.h) only
+// have to correct what the similarity could not.
+#pragma once
+
+#include <map>
+#include <nlohmann/json.hpp>
+#include <vector>
+
+#include "modules/global_ba/gcp_constraint.h"
+#include "pgba/geometry/sim3.h"
+#include "pgba/scene/view_graph.h"
+
+namespace pgba {
+
+struct GcpAlignment {
+  Sim3 transform;        // old global frame -> GCP frame
+  int num_gcps_used = 0;  // GCPs triangulated with the initial poses
+  double rms_before = 0.0;  // RMS of |P - T(p)| over the used GCPs, after the transfer (metres)
+};
+
+// Applies the transfer to `poses` and `triplets` in place. InputError if fewer than 3 GCPs
+// can be triangulated with the poses or they are (nearly) collinear.
+GcpAlignment AlignToGcps(const GcpInput& input, std::map<uint32_t, Pose>* poses, std::vector<Triplet>* triplets);
+
+// Check of a solution against the GCPs: each GCP triangulated with `poses` vs its given
+// coordinates.
+struct GcpCheck {
+  int num_gcps = 0;  // triangulated
+  double rms = 0.0;  // metres
+  double max = 0.0;
+  std::vector<std::pair<std::string, double>> errors;  // per triangulated GCP
+  nlohmann::json ToJson() const;
+};
+GcpCheck CheckGcps(const GcpInput& input, const std::map<uint32_t, Pose>& poses);
+
+}  // namespace pgba
