@@ -46,9 +46,9 @@ echo "== pgba run ($ds)" >&2
 echo "== pgba benchmark" >&2
 "$PGBA" benchmark "${bench_args[@]}" >"$out/benchmark.stdout"
 
-python3 - "$out/benchmark/benchmark.json" "$(basename "$ds")" <<'PY'
+python3 - "$out/benchmark/benchmark.json" "$(basename "$ds")" "$out/run/report.json" <<'PY'
 import json, math, sys
-path, name = sys.argv[1], sys.argv[2]
+path, name, run_report = sys.argv[1], sys.argv[2], sys.argv[3]
 methods = json.load(open(path))["methods"]
 def num(v, fmt):
     return fmt.format(v) if isinstance(v, (int, float)) and math.isfinite(v) else "--"
@@ -61,7 +61,9 @@ for label, key in rows:
         print(f"{label:<22} {'(not run)':>10}")
         continue
     print(f"{label:<22} {num(m.get('sigma_init'), '{:.2f}'):>10} {num(m.get('sigma_final'), '{:.2f}'):>11} "
-          f"{num(m.get('params', float('nan')) / 1000.0, '{:,.0f}k'):>9} "
+          f"{num(m.get('params', float('nan')) / 1000.0, '{:,.0f}k' if m.get('params', 0) >= 10000 else '{:.2f}k'):>9} "
           f"{num(m.get('rot_err_deg_median'), '{:.4f}'):>16} {num(m.get('adjust_seconds'), '{:.2f}'):>9}")
+run = json.load(open(run_report))
+print(f"images registered by pgba run: {run.get('images_registered', '?')} / {run.get('images_input', '?')}")
 PY
 echo "full tables: $out/benchmark.stdout; report: $out/run/report.html" >&2
