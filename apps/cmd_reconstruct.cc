@@ -1,9 +1,10 @@
-// pgba reconstruct --tracks INPUT --out OUT [--config F] [--gcp GCP_FILE]
+// pgba reconstruct --tracks INPUT --out OUT [--config F] [--workspace WS] [--gcp GCP_FILE]
 //
 // From tracks (a COLMAP text model whose poses and points are ignored) to the final poses:
 // global initialisation, local hessian BA per triplet, pointless global BA. Writes
 // OUT/sparse/ (COLMAP text model), OUT/points.ply, OUT/report.json and the workspace files
-// of `init` (OUT/pairs.json, OUT/triplets.json, OUT/init/). With --gcp, the result is in the
+// (OUT/pairs.json, OUT/triplets.json, OUT/init/, OUT/local_hessians.json). With --workspace
+// WS the initialisation (and the local hessians, if stored) are read from WS instead. With --gcp, the result is in the
 // GCP frame (the GCP file format: src/pgba/io/gcp_file.h).
 #include <filesystem>
 #include <memory>
@@ -19,7 +20,7 @@ namespace pgba::app {
 
 void RegisterReconstruct(CLI::App& app) {
   struct Args {
-    std::string tracks, out, config, gcp;
+    std::string tracks, out, config, gcp, workspace;
   };
   auto args = std::make_shared<Args>();
   CLI::App* sub =
@@ -27,6 +28,9 @@ void RegisterReconstruct(CLI::App& app) {
   sub->add_option("--tracks", args->tracks, "COLMAP text model holding the observations and tracks")->required();
   sub->add_option("--out", args->out, "Output directory")->required();
   sub->add_option("--config", args->config, "JSON config (sections of init plus local_hessian, global_ba)");
+  sub->add_option("--workspace", args->workspace,
+                  "Continue from this workspace of `init` or `reconstruct` (its triplets, initial poses and, "
+                  "where present, local_hessians.json) instead of re-running the initialisation");
   sub->add_option("--gcp", args->gcp, "Ground control points (GCP/OBS lines): the result is put in their frame");
 
   AddCommand(app, sub, [args] {
@@ -37,7 +41,9 @@ void RegisterReconstruct(CLI::App& app) {
     Report report;
     report["command"] = "reconstruct";
     report["tracks"] = args->tracks;
-    const ReconstructionOutput result = Reconstruct(tracks, options, &report);
+    const ReconstructionOutput result = args->workspace.empty()
+                                            ? Reconstruct(tracks, options, &report)
+                                            : ReconstructFromWorkspace(tracks, args->workspace, options, &report);
     WriteReconstruction(args->out, tracks, result);
     report.Write((std::filesystem::path(args->out) / "report.json").string());
     PGBA_LOG_INFO << "wrote " << args->out << "/{sparse/, points.ply, report.json}: " << result.refined.poses.size()

@@ -35,6 +35,7 @@ nlohmann::json EvaluationMetrics::ToJson() const {
       j["center_err_rel_median"] = ground_truth->center_err_rel_median;
       j["center_err_rel_max"] = ground_truth->center_err_rel_max;
       details["gt_alignment_inliers"] = ground_truth->num_alignment_inliers;
+      details["gt_centres_collinearity"] = ground_truth->collinearity;
       details["gt_scene_extent"] = ground_truth->scene_extent;
     }
   }

@@ -1,5 +1,7 @@
 #include "evaluation/ground_truth.h"
 
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -42,6 +44,19 @@ std::vector<double> CentreErrors(const Sim3& sim, const std::vector<Eigen::Vecto
   return e;
 }
 
+// Second / first singular value of the centred points (0 for collinear points).
+double Collinearity(const std::vector<Eigen::Vector3d>& c, Eigen::Vector3d* axis) {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const auto& x : c) mean += x;
+  mean /= std::max<size_t>(1, c.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const auto& x : c) cov += (x - mean) * (x - mean).transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  *axis = eig.eigenvectors().col(2);
+  const double l1 = eig.eigenvalues()(2), l2 = std::max(0.0, eig.eigenvalues()(1));
+  return l1 > 0 ? std::sqrt(l2 / l1) : 0.0;
+}
+
 }  // namespace
 
 GroundTruthErrors CompareToGroundTruth(const Reconstruction& model, const Reconstruction& gt,
@@ -79,11 +94,16 @@ GroundTruthErrors CompareToGroundTruth(const Reconstruction& model, const Recons
   }
   out.num_alignment_inliers = static_cast<size_t>(std::count(use.begin(), use.end(), true));
 
+  // Reported so that a reader can tell when the centre alignment's rotation about the
+  // centres' main line (a strip, a video along a wall) is weakly determined.
+  Eigen::Vector3d axis;
+  out.collinearity = Collinearity(truth, &axis);
+
   const std::vector<double> centre_err = CentreErrors(out.alignment, est, truth);
   for (size_t i = 0; i < out.num_common; ++i) {
-    const Pose aligned = out.alignment.Apply(est_images[i]->pose);
     out.names.push_back(est_images[i]->name);
-    out.rot_err_deg.push_back(RotationAngleDeg(aligned.R(), gt_images[i]->pose.R()));
+    out.rot_err_deg.push_back(
+        RotationAngleDeg(est_images[i]->pose.R() * out.alignment.R.transpose(), gt_images[i]->pose.R()));
     out.center_err_rel.push_back(centre_err[i] / out.scene_extent);
   }
   out.rot_err_deg_median = Median(out.rot_err_deg);

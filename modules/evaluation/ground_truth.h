@@ -39,6 +39,7 @@ struct GroundTruthErrors {
   size_t num_common = 0;            // images present (by name) in both models
   size_t num_alignment_inliers = 0;  // images used by the final alignment
   Sim3 alignment;                   // evaluated frame -> ground-truth frame
+  double collinearity = 0.0;  // second / first singular value of the centred true centres
   double scene_extent = 0.0;        // largest distance between two GT centres
   // Per common image, in the evaluated model's image-id order.
   std::vector<std::string> names;

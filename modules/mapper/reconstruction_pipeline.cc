@@ -4,7 +4,10 @@
 #include <optional>
 
 #include "evaluation/sigma.h"
+#include "local_hessian/local_hessian_io.h"
 #include "pgba/io/colmap_text.h"
+#include "pgba/io/workspace.h"
+#include "pgba/util/error.h"
 #include "pgba/io/ply.h"
 #include "pgba/scene/triangulate_model.h"
 #include "pgba/util/logging.h"
@@ -59,60 +62,108 @@ void CheckFinalGcps(const GcpInput& gcps, const std::map<uint32_t, Pose>& poses,
                 << check.max << " m";
 }
 
+// The stages after the initialisation: local hessians (unless given), pointless global BA,
+// convergence curve, triangulation.
+void Refine(const Reconstruction& tracks, const ReconstructionOptions& options, Report* report, bool record_convergence,
+            bool hessians_given, ReconstructionOutput* out) {
+  if (!hessians_given) {
+    StageTimer timer(report, "local_hessians");
+    out->hessians = PrepareLocalHessians(tracks, out->init.init.triplets, options.refinement.local_hessian);
+    nlohmann::json& stage = timer.Stop();
+    stage["triplets"] = out->init.init.triplets.size();
+    stage["ok"] = out->hessians.result.num_ok();
+    for (int s = 1; s < kNumLocalHessianStatus; ++s)
+      stage["rejected"][LocalHessianStatusName(static_cast<LocalHessianStatus>(s))] =
+          out->hessians.result.status_counts[s];
+  }
+  const std::optional<GcpInput> gcps = TransferToGcpFrame(tracks, options, report, &out->init.init);
+  {
+    StageTimer timer(report, "global_ba");
+    out->refined = RefinePoses(RefinementMethod::kPointless, tracks, out->init.init.poses, out->init.init.triplets,
+                               &out->hessians, options.refinement, record_convergence, gcps ? &*gcps : nullptr);
+    nlohmann::json& stage = timer.Stop();
+    stage["params"] = out->refined.num_params;
+    stage["iterations"] = out->refined.iterations;
+    stage["adjust_seconds"] = out->refined.adjust_seconds;
+    stage.update(out->refined.details);
+    stage.erase("local_hessians");
+  }
+  if (gcps) CheckFinalGcps(*gcps, out->refined.poses, report);
+  if (record_convergence) {
+    StageTimer timer(report, "convergence");
+    for (const auto& poses : out->refined.history) out->convergence.push_back(EvaluateSigma(tracks, poses).rms);
+    out->refined.history.clear();
+    timer.Stop()["iterations"] = out->convergence.size();
+  }
+  {
+    StageTimer timer(report, "triangulation");
+    out->model = TriangulateModel(tracks, out->refined.poses);
+    timer.Stop()["points"] = out->model.points3D.size();
+  }
+  std::vector<std::string> dropped = out->init.init.images_dropped;
+  for (uint32_t id : out->refined.excluded_images) {
+    dropped.push_back(tracks.images.at(id).name);
+    PGBA_LOG_WARN << "image dropped (in no usable triplet of the global BA): " << tracks.images.at(id).name;
+  }
+  (*report)["images_input"] = tracks.images.size();
+  (*report)["images_registered"] = out->refined.poses.size();
+  (*report)["images_dropped"] = dropped;
+  (*report)["params"] = out->refined.num_params;
+}
+
 }  // namespace
 
 ReconstructionOutput Reconstruct(const Reconstruction& tracks, const ReconstructionOptions& options, Report* report,
                                  bool record_convergence) {
   ReconstructionOutput out;
   out.init = RunGlobalMapper(tracks, options.mapper, report);
+  Refine(tracks, options, report, record_convergence, /*hessians_given=*/false, &out);
+  return out;
+}
+
+ReconstructionOutput ReconstructFromWorkspace(const Reconstruction& tracks, const std::string& workspace,
+                                             const ReconstructionOptions& options, Report* report) {
+  namespace fs = std::filesystem;
+  const fs::path ws(workspace);
+  auto require = [&](const fs::path& p) {
+    if (!fs::exists(p)) throw InputError(p.string() + ": missing (run `pgba init` or `pgba reconstruct` first)");
+  };
+  ReconstructionOutput out;
   {
-    StageTimer timer(report, "local_hessians");
-    out.hessians = PrepareLocalHessians(tracks, out.init.init.triplets, options.refinement.local_hessian);
+    StageTimer timer(report, "workspace");
+    require(WorkspacePairsPath(ws));
+    require(WorkspaceTripletsPath(ws));
+    require(ws / "init" / "images.txt");
+    out.init.pairs = ReadPairs(WorkspacePairsPath(ws), tracks);
+    out.init.init.triplets = ReadTriplets(WorkspaceTripletsPath(ws), tracks);
+    const Reconstruction init = ReadColmapText((ws / "init").string(), /*points_optional=*/true);
+    out.init.init.poses = MatchImagesByName(init, tracks).poses;
+    out.init.init.success = true;
+    for (const auto& [id, im] : tracks.images)
+      if (!out.init.init.poses.count(id)) out.init.init.images_dropped.push_back(im.name);
+    if (out.init.init.poses.empty())
+      throw InputError((ws / "init").string() + ": no image of the tracks model (another model's workspace?)");
     nlohmann::json& stage = timer.Stop();
     stage["triplets"] = out.init.init.triplets.size();
-    stage["ok"] = out.hessians.result.num_ok();
-    for (int s = 1; s < kNumLocalHessianStatus; ++s)
-      stage["rejected"][LocalHessianStatusName(static_cast<LocalHessianStatus>(s))] = out.hessians.result.status_counts[s];
+    stage["initial_poses"] = out.init.init.poses.size();
   }
-  const std::optional<GcpInput> gcps = TransferToGcpFrame(tracks, options, report, &out.init.init);
-  {
-    StageTimer timer(report, "global_ba");
-    out.refined = RefinePoses(RefinementMethod::kPointless, tracks, out.init.init.poses, out.init.init.triplets,
-                              &out.hessians, options.refinement, record_convergence, gcps ? &*gcps : nullptr);
+  const fs::path hessians = WorkspaceLocalHessiansPath(ws);
+  const bool given = fs::exists(hessians);
+  if (given) {
+    StageTimer timer(report, "local_hessians");
+    out.hessians.result = ReadLocalHessians(hessians, tracks, out.init.init.triplets);
     nlohmann::json& stage = timer.Stop();
-    stage["params"] = out.refined.num_params;
-    stage["iterations"] = out.refined.iterations;
-    stage["adjust_seconds"] = out.refined.adjust_seconds;
-    stage.update(out.refined.details);
-    stage.erase("local_hessians");
+    stage["read_from"] = hessians.string();
+    stage["ok"] = out.hessians.result.num_ok();
   }
-  if (gcps) CheckFinalGcps(*gcps, out.refined.poses, report);
-  if (record_convergence) {
-    StageTimer timer(report, "convergence");
-    for (const auto& poses : out.refined.history) out.convergence.push_back(EvaluateSigma(tracks, poses).rms);
-    out.refined.history.clear();
-    timer.Stop()["iterations"] = out.convergence.size();
-  }
-  {
-    StageTimer timer(report, "triangulation");
-    out.model = TriangulateModel(tracks, out.refined.poses);
-    timer.Stop()["points"] = out.model.points3D.size();
-  }
-  std::vector<std::string> dropped = out.init.init.images_dropped;
-  for (uint32_t id : out.refined.excluded_images) {
-    dropped.push_back(tracks.images.at(id).name);
-    PGBA_LOG_WARN << "image dropped (in no usable triplet of the global BA): " << tracks.images.at(id).name;
-  }
-  (*report)["images_input"] = tracks.images.size();
-  (*report)["images_registered"] = out.refined.poses.size();
-  (*report)["images_dropped"] = dropped;
-  (*report)["params"] = out.refined.num_params;
+  Refine(tracks, options, report, /*record_convergence=*/false, given, &out);
   return out;
 }
 
 void WriteReconstruction(const std::string& out, const Reconstruction& tracks, const ReconstructionOutput& result) {
   namespace fs = std::filesystem;
   WriteGlobalMapperWorkspace(out, tracks, result.init);
+  WriteLocalHessians(WorkspaceLocalHessiansPath(out), tracks, result.hessians.result);
   WriteColmapText(result.model, (fs::path(out) / "sparse").string());
   WritePly(result.model, (fs::path(out) / "points.ply").string());
 }

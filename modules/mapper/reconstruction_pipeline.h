@@ -45,8 +45,15 @@ struct ReconstructionOutput {
 ReconstructionOutput Reconstruct(const Reconstruction& tracks, const ReconstructionOptions& options, Report* report,
                                  bool record_convergence = false);
 
-// OUT/pairs.json, OUT/triplets.json, OUT/init/ (the workspace of `init`), OUT/sparse/ (COLMAP
-// text model) and OUT/points.ply.
+// Continues from the workspace of an earlier `init` or `reconstruct`: WS/pairs.json,
+// WS/triplets.json and the initial poses of WS/init/ (matched to `tracks` by image name), and
+// WS/local_hessians.json where present (computed otherwise); then as Reconstruct. A missing
+// or foreign artefact is an InputError naming the file.
+ReconstructionOutput ReconstructFromWorkspace(const Reconstruction& tracks, const std::string& workspace,
+                                             const ReconstructionOptions& options, Report* report);
+
+// OUT/pairs.json, OUT/triplets.json, OUT/init/ (the workspace of `init`),
+// OUT/local_hessians.json, OUT/sparse/ (COLMAP text model) and OUT/points.ply.
 void WriteReconstruction(const std::string& out, const Reconstruction& tracks, const ReconstructionOutput& result);
 
 }  // namespace pgba
