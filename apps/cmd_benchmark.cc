@@ -12,7 +12,7 @@
 
 #include "apps/commands.h"
 #include "benchmark/benchmark.h"
-#include "mapper/reconstruction_pipeline.h"
+#include "mapper/run_pipeline.h"
 #include "pgba/io/colmap_text.h"
 #include "pgba/io/loop_pairs.h"
 #include "pgba/util/atomic_file.h"
@@ -43,7 +43,7 @@ void RegisterBenchmark(CLI::App& app) {
 
   AddCommand(app, sub, [args] {
     namespace fs = std::filesystem;
-    const ReconstructionOptions ro = LoadReconstructionOptions(args->config);
+    const ReconstructionOptions ro = LoadRunOptions(args->config).reconstruction;
     BenchmarkOptions options;
     options.mapper = ro.mapper;
     options.refinement = ro.refinement;

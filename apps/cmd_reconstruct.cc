@@ -11,7 +11,7 @@
 #include <string>
 
 #include "apps/commands.h"
-#include "mapper/reconstruction_pipeline.h"
+#include "mapper/run_pipeline.h"
 #include "pgba/io/colmap_text.h"
 #include "pgba/io/gcp_file.h"
 #include "pgba/util/logging.h"
@@ -34,7 +34,7 @@ void RegisterReconstruct(CLI::App& app) {
   sub->add_option("--gcp", args->gcp, "Ground control points (GCP/OBS lines): the result is put in their frame");
 
   AddCommand(app, sub, [args] {
-    ReconstructionOptions options = LoadReconstructionOptions(args->config);
+    ReconstructionOptions options = LoadRunOptions(args->config).reconstruction;
     options.gcp_path = args->gcp;
     if (!args->gcp.empty()) ReadGcpFile(args->gcp);  // a malformed file fails before any work
     const Reconstruction tracks = ReadColmapText(args->tracks);

@@ -26,15 +26,6 @@ void ReadReconstructionOptions(const Config& config, ReconstructionOptions* opti
   ReadSection(config, "gcp", &options->gcp);
 }
 
-ReconstructionOptions LoadReconstructionOptions(const std::string& path) {
-  ReconstructionOptions options;
-  if (path.empty()) return options;
-  ConfigSchema schema;
-  AddReconstructionSections(&schema);
-  ReadReconstructionOptions(LoadConfig(path, schema), &options);
-  return options;
-}
-
 namespace {
 
 // With a GCP file: the initial solution moved into the GCP frame (stage "gcp_alignment").

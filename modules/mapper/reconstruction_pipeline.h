@@ -25,8 +25,6 @@ struct ReconstructionOptions {
 };
 void AddReconstructionSections(ConfigSchema* schema);
 void ReadReconstructionOptions(const Config& config, ReconstructionOptions* options);
-// Loads `path` (empty: defaults) against the schema of every section above.
-ReconstructionOptions LoadReconstructionOptions(const std::string& path);
 
 struct ReconstructionOutput {
   GlobalMapperResult init;

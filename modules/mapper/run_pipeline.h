@@ -20,7 +20,9 @@ struct RunOptions {
   MatchingOptions matching;            // section "matching"
   ReconstructionOptions reconstruction;  // the sections of `reconstruct`
 };
-// Loads `path` (empty: defaults) against the schema of every section above.
+// Loads `path` (empty: defaults) against the schema of every section above. Every command
+// reads its config through this, so one preset of configs/ serves run, reconstruct and
+// benchmark (sections of stages a command does not run are checked, then unused).
 RunOptions LoadRunOptions(const std::string& path);
 
 struct RunOutput {

@@ -1,0 +1,93 @@
+#!/usr/bin/env bash
+# End to end, COLMAP vs pgba, on the same images, the same intrinsics and the same machine:
+#   COLMAP: feature_extractor + exhaustive_matcher + mapper (CPU, incremental SfM)
+#   pgba:   pgba run (features, matching, triplets, averaging, local hessians, pointless BA)
+# Both models are judged by `pgba evaluate` against the dataset's ground truth (registered
+# images, rotation and centre errors after a similarity alignment, sigma on pgba's tracks).
+# Prints one table with the wall time per stage.
+#
+# Usage: bench/compare_colmap.sh [DATASET_DIR ...]   (default: every shared dataset with gt/)
+#   DATASET_DIR has images/, cameras.txt and gt/ (shared/datasets/README.md).
+# Environment: PGBA=path/to/pgba (default: build/bin/pgba), COLMAP=colmap, KEEP=1 keeps the
+#   workspaces, CONFIG=configs/X.json passed to pgba run.
+set -euo pipefail
+here=$(cd "$(dirname "$0")/.." && pwd)
+shared=$(cd "$here/.." && pwd)/shared
+COLMAP=${COLMAP:-colmap}
+PGBA=${PGBA:-$here/build/bin/pgba}
+[[ -x "$PGBA" ]] || { echo "error: $PGBA not found; build pgba or set PGBA=" >&2; exit 2; }
+command -v "$COLMAP" >/dev/null || { echo "error: colmap not found (apt-get install colmap, or set COLMAP=)" >&2; exit 2; }
+if [[ $# -eq 0 ]]; then
+  for d in "$shared"/datasets/*/; do [[ -d "$d/gt" ]] && set -- "$@" "${d%/}"; done
+fi
+now() { date +%s.%N; }
+secs() { python3 -c "print(f'{$2 - $1:.1f}')"; }
+cfg=()
+[[ -n "${CONFIG:-}" ]] && cfg=(--config "$CONFIG")
+
+printf "%-20s %-7s %8s %8s %8s %8s %6s %10s %10s %11s %8s\n" dataset method feat_s match_s sfm_s total_s reg \
+  rot_med rot_max centre_med sigma
+for ds in "$@"; do
+  name=$(basename "$ds")
+  [[ -d "$ds/images" && -f "$ds/cameras.txt" && -d "$ds/gt" ]] || { echo "error: $ds: needs images/, cameras.txt, gt/" >&2; exit 2; }
+  tmp=$(mktemp -d "/tmp/pgba_vs_colmap_${name}_XXXX")
+  read -r model params < <(grep -v '^#' "$ds/cameras.txt" | awk 'NF {p=$5; for (i=6;i<=NF;i++) p=p","$i; print $2, p; exit}')
+  t0=$(now)
+  "$COLMAP" feature_extractor --database_path "$tmp/colmap.db" --image_path "$ds/images" \
+    --ImageReader.single_camera 1 --ImageReader.camera_model "$model" --ImageReader.camera_params "$params" \
+    --SiftExtraction.use_gpu 0 >"$tmp/colmap.log" 2>&1
+  t1=$(now)
+  "$COLMAP" exhaustive_matcher --database_path "$tmp/colmap.db" --SiftMatching.use_gpu 0 >>"$tmp/colmap.log" 2>&1
+  t2=$(now)
+  mkdir -p "$tmp/colmap_sparse"
+  "$COLMAP" mapper --database_path "$tmp/colmap.db" --image_path "$ds/images" --output_path "$tmp/colmap_sparse" \
+    --Mapper.ba_refine_focal_length 0 --Mapper.ba_refine_principal_point 0 --Mapper.ba_refine_extra_params 0 \
+    >>"$tmp/colmap.log" 2>&1 || true
+  t3=$(now)
+  # The largest model COLMAP produced (it may split the scene), as text.
+  best=""
+  bestn=0
+  for m in "$tmp"/colmap_sparse/*/; do
+    [[ -f "$m/images.bin" ]] || continue
+    mkdir -p "$tmp/colmap_txt/$(basename "$m")"
+    "$COLMAP" model_converter --input_path "$m" --output_path "$tmp/colmap_txt/$(basename "$m")" --output_type TXT \
+      >>"$tmp/colmap.log" 2>&1
+    n=$(grep -v '^#' "$tmp/colmap_txt/$(basename "$m")/images.txt" | awk 'NF' | wc -l)
+    if (( n > bestn )); then bestn=$n; best="$tmp/colmap_txt/$(basename "$m")"; fi
+  done
+
+  t4=$(now)
+  "$PGBA" -v 0 run --images "$ds/images" --calib "$ds/cameras.txt" --out "$tmp/pgba" "${cfg[@]}" \
+    >"$tmp/pgba.log" 2>&1 || true
+  t5=$(now)
+
+  # Both judged on pgba's tracks (its observation model) and the ground truth.
+  eval_json() {  # MODEL OUT.json
+    if [[ -n "$1" && -d "$1" && -f "$tmp/pgba/tracks/points3D.txt" ]]; then
+      "$PGBA" -v 0 evaluate "$1" --obs "$tmp/pgba/tracks" --gt "$ds/gt" --json "$2" >/dev/null 2>&1 || echo '{}' >"$2"
+    else
+      echo '{}' >"$2"
+    fi
+  }
+  eval_json "$best" "$tmp/colmap_eval.json"
+  eval_json "$tmp/pgba/sparse" "$tmp/pgba_eval.json"
+  python3 - "$name" "$tmp" "$(secs "$t0" "$t1")" "$(secs "$t1" "$t2")" "$(secs "$t2" "$t3")" "$(secs "$t4" "$t5")" \
+    "$(ls "$ds/images" | wc -l)" <<'PY'
+import json, sys
+name, tmp, cf, cm, cs, pt, n = sys.argv[1], sys.argv[2], *map(float, sys.argv[3:7]), int(sys.argv[7])
+def row(method, f, m, s, total, e):
+    g = lambda k, fmt: (fmt % e[k]) if k in e else "n/a"
+    reg = f"{e.get('images_registered', 0)}/{n}"
+    print(f"{name:<20} {method:<7} {f:8.1f} {m:8.1f} {s:8.1f} {total:8.1f} {reg:>6} {g('rot_err_deg_median', '%.4f'):>10}"
+          f" {g('rot_err_deg_max', '%.4f'):>10} {g('center_err_rel_median', '%.2e'):>11} {g('sigma_rms', '%.3f'):>8}")
+row("colmap", cf, cm, cs, cf + cm + cs, json.load(open(f"{tmp}/colmap_eval.json")))
+try:
+    st = json.load(open(f"{tmp}/pgba/report.json"))["stages"]
+except Exception:
+    st = {}
+f = st.get("features", {}).get("seconds", 0.0)
+m = st.get("match", {}).get("seconds", 0.0)
+row("pgba", f, m, pt - f - m, pt, json.load(open(f"{tmp}/pgba_eval.json")))
+PY
+  [[ -n "${KEEP:-}" ]] && echo "  (kept $tmp)" || rm -rf "$tmp"
+done
