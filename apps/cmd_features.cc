@@ -32,20 +32,10 @@ void RegisterFeatures(CLI::App& app) {
   sub->add_flag("!--no-cache", args->options.use_cache, "recompute even where cached features exist");
   AddCommand(app, sub, [args] {
     const FeatureExtractionResult r = ExtractFeatures(args->images, args->calib, args->out, args->options);
-    nlohmann::json record = {{"seconds", r.seconds},
-                             {"peak_rss_mb", PeakRssMb()},
-                             {"images", r.index.images.size()},
-                             {"images_extracted", r.num_extracted},
-                             {"images_cached", r.num_cached},
-                             {"megapixels_extracted", r.megapixels_extracted},
-                             {"options", nlohmann::json(args->options)}};
-    if (r.megapixels_extracted > 0) record["seconds_per_megapixel"] = r.seconds / r.megapixels_extracted;
-    nlohmann::json skipped = nlohmann::json::array();
-    for (const SkippedImage& s : r.skipped) skipped.push_back({{"name", s.name}, {"reason", s.reason}});
-    record["images_skipped"] = skipped;
-    long total = 0;
-    for (const IndexedImage& im : r.index.images) total += im.num_features;
-    record["features_mean"] = static_cast<double>(total) / r.index.images.size();
+    nlohmann::json record = FeatureExtractionRecord(r);
+    record["seconds"] = r.seconds;
+    record["peak_rss_mb"] = PeakRssMb();
+    record["options"] = args->options;
     MergeStageIntoReport((std::filesystem::path(args->out) / "report.json").string(), "features", record);
     return 0;
   });

@@ -11,24 +11,11 @@
 #include "matching/match_images.h"
 #include "pgba/io/colmap_database.h"
 #include "pgba/io/colmap_text.h"
-#include "pgba/io/two_view_geometries.h"
 #include "pgba/util/logging.h"
 #include "pgba/util/timer.h"
 
 namespace pgba::app {
 namespace fs = std::filesystem;
-
-namespace {
-
-nlohmann::json TrackRecord(const Reconstruction& rec, const TrackStats& st) {
-  return {{"images", rec.images.size()},
-          {"tracks", st.num_tracks},
-          {"observations", st.num_observations},
-          {"mean_track_length", st.mean_track_length},
-          {"tracks_conflicting_dropped", st.num_conflicting}};
-}
-
-}  // namespace
 
 void RegisterMatch(CLI::App& app) {
   struct Args {
@@ -71,19 +58,10 @@ void RegisterMatch(CLI::App& app) {
       return 0;
     }
     const MatchingResult r = MatchImages(args->out, args->options);
-    WriteColmapText(r.tracks, (ws / "tracks").string());
-    fs::create_directories(ws / "matching");
-    WriteTwoViewGeometries(r.two_view_geometries, (ws / "matching" / "two_view_geometries.txt").string());
-    nlohmann::json record = TrackRecord(r.tracks, r.track_stats);
+    WriteMatchingResult(args->out, r);
+    nlohmann::json record = MatchingRecord(r);
     record["seconds"] = r.seconds;
     record["peak_rss_mb"] = PeakRssMb();
-    record["pairs"] = r.num_pairs;
-    record["pairs_verified"] = r.two_view_geometries.size();
-    record["putative_matches"] = r.num_putative;
-    record["verified_matches"] = r.num_verified_matches;
-    record["seconds_matching"] = r.seconds_matching;
-    if (r.num_pairs > 0) record["seconds_per_pair"] = r.seconds_matching / r.num_pairs;
-    record["images_without_tracks"] = r.images_without_tracks;
     record["options"] = args->options;
     MergeStageIntoReport(report, "match", record);
     return 0;

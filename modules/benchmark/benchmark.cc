@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "benchmark/svg_plot.h"
+#include "benchmark/text_format.h"
 #include "pgba/scene/triangulate_model.h"
 #include "pgba/util/error.h"
 #include "pgba/util/logging.h"
@@ -123,13 +124,6 @@ const char* DisplayName(RefinementMethod m) {
   return "?";
 }
 
-std::string Fmt(const char* format, double v) {
-  if (!std::isfinite(v)) return "n/a";
-  char buf[64];
-  std::snprintf(buf, sizeof(buf), format, v);
-  return buf;
-}
-
 }  // namespace
 
 void PrintBenchmarkTables(const BenchmarkResult& result, std::ostream& out) {
@@ -142,7 +136,7 @@ void PrintBenchmarkTables(const BenchmarkResult& result, std::ostream& out) {
   for (const MethodOutcome& m : result.methods) {
     const RefinementResult& r = m.refinement;
     std::snprintf(line, sizeof(line), "%-22s %10s %10s %10d %6d %11.4f %11.4f %9.1f\n", DisplayName(r.method),
-                  Fmt("%.4f", sigma_init).c_str(), Fmt("%.4f", SigmaOrNaN(m.metrics.sigma)).c_str(), r.num_params,
+                  FormatNumber("%.4f", sigma_init).c_str(), FormatNumber("%.4f", SigmaOrNaN(m.metrics.sigma)).c_str(), r.num_params,
                   r.iterations, r.adjust_seconds, r.prepare_seconds, r.peak_rss_mb);
     out << line;
   }
@@ -152,14 +146,14 @@ void PrintBenchmarkTables(const BenchmarkResult& result, std::ostream& out) {
     std::snprintf(line, sizeof(line), "%-22s %12s %12s %10s\n", "method", "err_loop_rms", "err_loop_med", "params");
     out << line;
     std::snprintf(line, sizeof(line), "%-22s %12s %12s %10s\n", "initial poses",
-                  Fmt("%.3f", result.init_metrics.loop->rms).c_str(),
-                  Fmt("%.3f", result.init_metrics.loop->median).c_str(), "-");
+                  FormatNumber("%.3f", result.init_metrics.loop->rms).c_str(),
+                  FormatNumber("%.3f", result.init_metrics.loop->median).c_str(), "-");
     out << line;
     for (const MethodOutcome& m : result.methods) {
       const bool ok = m.metrics.loop && m.metrics.loop->Computable();
       std::snprintf(line, sizeof(line), "%-22s %12s %12s %10d\n", DisplayName(m.refinement.method),
-                    Fmt("%.3f", ok ? m.metrics.loop->rms : kNaN).c_str(),
-                    Fmt("%.3f", ok ? m.metrics.loop->median : kNaN).c_str(), m.refinement.num_params);
+                    FormatNumber("%.3f", ok ? m.metrics.loop->rms : kNaN).c_str(),
+                    FormatNumber("%.3f", ok ? m.metrics.loop->median : kNaN).c_str(), m.refinement.num_params);
       out << line;
     }
   }
@@ -171,9 +165,9 @@ void PrintBenchmarkTables(const BenchmarkResult& result, std::ostream& out) {
     auto row = [&](const char* name, const EvaluationMetrics& e) {
       const bool ok = e.ground_truth && e.ground_truth->ok;
       std::snprintf(line, sizeof(line), "%-22s %12s %12s %14s %4zu / %-4zu\n", name,
-                    Fmt("%.5f", ok ? e.ground_truth->rot_err_deg_median : kNaN).c_str(),
-                    Fmt("%.5f", ok ? e.ground_truth->rot_err_deg_max : kNaN).c_str(),
-                    Fmt("%.3e", ok ? e.ground_truth->center_err_rel_median : kNaN).c_str(), e.images_registered,
+                    FormatNumber("%.5f", ok ? e.ground_truth->rot_err_deg_median : kNaN).c_str(),
+                    FormatNumber("%.5f", ok ? e.ground_truth->rot_err_deg_max : kNaN).c_str(),
+                    FormatNumber("%.3e", ok ? e.ground_truth->center_err_rel_median : kNaN).c_str(), e.images_registered,
                     e.images_input);
       out << line;
     };
@@ -188,11 +182,11 @@ void PrintBenchmarkTables(const BenchmarkResult& result, std::ostream& out) {
   }
   if (pl && pb) {
     const double sp = SigmaOrNaN(pl->metrics.sigma), sb = SigmaOrNaN(pb->metrics.sigma);
-    out << "\npointless / point-based: sigma " << Fmt("%.4f", sp / sb) << ", params "
-        << Fmt("%.3f", static_cast<double>(pl->refinement.num_params) / pb->refinement.num_params)
-        << ", adjustment time " << Fmt("%.3f", pl->refinement.adjust_seconds / pb->refinement.adjust_seconds)
+    out << "\npointless / point-based: sigma " << FormatNumber("%.4f", sp / sb) << ", params "
+        << FormatNumber("%.3f", static_cast<double>(pl->refinement.num_params) / pb->refinement.num_params)
+        << ", adjustment time " << FormatNumber("%.3f", pl->refinement.adjust_seconds / pb->refinement.adjust_seconds)
         << ", adjustment + preparation time "
-        << Fmt("%.3f", (pl->refinement.adjust_seconds + pl->refinement.prepare_seconds) /
+        << FormatNumber("%.3f", (pl->refinement.adjust_seconds + pl->refinement.prepare_seconds) /
                            (pb->refinement.adjust_seconds + pb->refinement.prepare_seconds))
         << "\n";
   }
@@ -203,8 +197,8 @@ void PrintBenchmarkTables(const BenchmarkResult& result, std::ostream& out) {
     out << line;
     for (const SweepPoint& p : result.sweep) {
       std::snprintf(line, sizeof(line), "%-10.3f %8d %9d %12s %12s %s\n", p.fraction, p.pairs_corrupted,
-                    p.triplets_corrupted, Fmt("%.4f", p.sigma_pointless).c_str(),
-                    Fmt("%.4f", p.sigma_averaging).c_str(), p.error.c_str());
+                    p.triplets_corrupted, FormatNumber("%.4f", p.sigma_pointless).c_str(),
+                    FormatNumber("%.4f", p.sigma_averaging).c_str(), p.error.c_str());
       out << line;
     }
   }

@@ -7,30 +7,13 @@
 #include <sstream>
 
 #include "benchmark/svg_plot.h"
+#include "benchmark/text_format.h"
 
 namespace pgba {
 namespace {
 
-std::string Escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    if (c == '<') out += "&lt;";
-    else if (c == '>') out += "&gt;";
-    else if (c == '&') out += "&amp;";
-    else if (c == '"') out += "&quot;";
-    else out += c;
-  }
-  return out;
-}
-
-std::string Fmt(const char* format, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof(buf), format, v);
-  return buf;
-}
-
 void Row(std::ostringstream& h, const std::string& key, const std::string& value) {
-  h << "<tr><th>" << Escape(key) << "</th><td>" << Escape(value) << "</td></tr>\n";
+  h << "<tr><th>" << XmlEscape(key) << "</th><td>" << XmlEscape(value) << "</td></tr>\n";
 }
 
 double Percentile(std::vector<double> v, double q) {
@@ -81,7 +64,7 @@ std::string TopViewSvg(const Reconstruction& model, int width, int height) {
   const size_t step = std::max<size_t>(1, pts.size() / 20000);
   for (size_t i = 0; i < pts.size(); i += step) {
     if (pxs[i] < xmin || pxs[i] > xmax || pys[i] < ymin || pys[i] > ymax) continue;
-    svg << "<circle cx=\"" << Fmt("%.1f", sx(pxs[i])) << "\" cy=\"" << Fmt("%.1f", sy(pys[i]))
+    svg << "<circle cx=\"" << FormatNumber("%.1f", sx(pxs[i])) << "\" cy=\"" << FormatNumber("%.1f", sy(pys[i]))
         << "\" r=\"0.8\" fill=\"#888\"/>";
   }
   svg << "\n";
@@ -90,10 +73,10 @@ std::string TopViewSvg(const Reconstruction& model, int width, int height) {
     const Eigen::Vector3d dir = im.pose.R().row(2).transpose();  // viewing direction
     const Eigen::Vector2d c = project(im.pose.C());
     const Eigen::Vector2d d(dir.dot(a), dir.dot(b));
-    svg << "<line x1=\"" << Fmt("%.1f", sx(c.x())) << "\" y1=\"" << Fmt("%.1f", sy(c.y())) << "\" x2=\""
-        << Fmt("%.1f", sx(c.x()) + 12 * d.x()) << "\" y2=\"" << Fmt("%.1f", sy(c.y()) - 12 * d.y())
-        << "\" stroke=\"#d62728\"/><circle cx=\"" << Fmt("%.1f", sx(c.x())) << "\" cy=\"" << Fmt("%.1f", sy(c.y()))
-        << "\" r=\"3\" fill=\"#d62728\"><title>" << Escape(im.name) << "</title></circle>\n";
+    svg << "<line x1=\"" << FormatNumber("%.1f", sx(c.x())) << "\" y1=\"" << FormatNumber("%.1f", sy(c.y())) << "\" x2=\""
+        << FormatNumber("%.1f", sx(c.x()) + 12 * d.x()) << "\" y2=\"" << FormatNumber("%.1f", sy(c.y()) - 12 * d.y())
+        << "\" stroke=\"#d62728\"/><circle cx=\"" << FormatNumber("%.1f", sx(c.x())) << "\" cy=\"" << FormatNumber("%.1f", sy(c.y()))
+        << "\" r=\"3\" fill=\"#d62728\"><title>" << XmlEscape(im.name) << "</title></circle>\n";
     ++k;
   }
   svg << "</svg>\n";
@@ -102,11 +85,11 @@ std::string TopViewSvg(const Reconstruction& model, int width, int height) {
 
 std::string RunReportHtml(const HtmlReportInput& in) {
   std::ostringstream h;
-  h << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>" << Escape(in.title) << "</title>\n"
+  h << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>" << XmlEscape(in.title) << "</title>\n"
     << "<style>body{font-family:sans-serif;margin:2em;max-width:1000px}table{border-collapse:collapse;margin:1em 0}"
        "th,td{border:1px solid #ccc;padding:4px 10px;text-align:left}th{background:#f4f4f4}"
        "td.n{text-align:right}h2{margin-top:1.5em}</style></head><body>\n"
-    << "<h1>" << Escape(in.title) << "</h1>\n";
+    << "<h1>" << XmlEscape(in.title) << "</h1>\n";
   const nlohmann::json& r = in.report ? *in.report : nlohmann::json::object();
 
   h << "<h2>Summary</h2><table>\n";
@@ -124,20 +107,20 @@ std::string RunReportHtml(const HtmlReportInput& in) {
   }
   if (r.contains("params")) Row(h, "unknowns of the pointless global BA", std::to_string(r["params"].get<long>()));
   if (in.convergence && !in.convergence->empty()) {
-    Row(h, "sigma initial poses (px)", Fmt("%.4f", in.convergence->front()));
-    Row(h, "sigma final (px)", Fmt("%.4f", in.convergence->back()));
+    Row(h, "sigma initial poses (px)", FormatNumber("%.4f", in.convergence->front()));
+    Row(h, "sigma final (px)", FormatNumber("%.4f", in.convergence->back()));
   }
   if (in.metrics) {
     if (in.metrics->sigma.Computable()) {
-      Row(h, "sigma median (px)", Fmt("%.4f", in.metrics->sigma.median));
-      Row(h, "inlier fraction (< 4 px)", Fmt("%.4f", in.metrics->sigma.inlier_fraction));
+      Row(h, "sigma median (px)", FormatNumber("%.4f", in.metrics->sigma.median));
+      Row(h, "inlier fraction (< 4 px)", FormatNumber("%.4f", in.metrics->sigma.inlier_fraction));
     }
     if (in.metrics->ground_truth && in.metrics->ground_truth->ok) {
       const GroundTruthErrors& g = *in.metrics->ground_truth;
       Row(h, "rotation error vs ground truth, median / max (deg)",
-          Fmt("%.4f", g.rot_err_deg_median) + " / " + Fmt("%.4f", g.rot_err_deg_max));
+          FormatNumber("%.4f", g.rot_err_deg_median) + " / " + FormatNumber("%.4f", g.rot_err_deg_max));
       Row(h, "centre error vs ground truth, median / max (fraction of extent)",
-          Fmt("%.2e", g.center_err_rel_median) + " / " + Fmt("%.2e", g.center_err_rel_max));
+          FormatNumber("%.2e", g.center_err_rel_median) + " / " + FormatNumber("%.2e", g.center_err_rel_max));
     }
   }
   h << "</table>\n";
@@ -152,10 +135,10 @@ std::string RunReportHtml(const HtmlReportInput& in) {
       const auto& st = r["stages"][name];
       const double s = st.value("seconds", 0.0);
       total += s;
-      h << "<tr><td>" << Escape(name) << "</td><td class=\"n\">" << Fmt("%.2f", s) << "</td><td class=\"n\">"
-        << Fmt("%.0f", st.value("peak_rss_mb", 0.0)) << "</td></tr>\n";
+      h << "<tr><td>" << XmlEscape(name) << "</td><td class=\"n\">" << FormatNumber("%.2f", s) << "</td><td class=\"n\">"
+        << FormatNumber("%.0f", st.value("peak_rss_mb", 0.0)) << "</td></tr>\n";
     }
-    h << "<tr><th>total</th><th class=\"n\">" << Fmt("%.2f", total) << "</th><th></th></tr></table>\n";
+    h << "<tr><th>total</th><th class=\"n\">" << FormatNumber("%.2f", total) << "</th><th></th></tr></table>\n";
   }
   if (in.convergence && !in.convergence->empty()) {
     PlotSeries s{"pointless global BA", {}, *in.convergence};

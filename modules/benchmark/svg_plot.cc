@@ -1,5 +1,7 @@
 #include "benchmark/svg_plot.h"
 
+#include "benchmark/text_format.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -10,23 +12,6 @@ namespace pgba {
 namespace {
 
 const char* kColors[] = {"#d62728", "#1f77b4", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b"};
-
-std::string Escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    if (c == '<') out += "&lt;";
-    else if (c == '>') out += "&gt;";
-    else if (c == '&') out += "&amp;";
-    else out += c;
-  }
-  return out;
-}
-
-std::string Num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), "%.4g", v);
-  return buf;
-}
 
 // "Nice" linear ticks covering [lo, hi].
 std::vector<double> LinearTicks(double lo, double hi) {
@@ -74,14 +59,14 @@ std::string LinePlotSvg(const std::vector<PlotSeries>& series, const PlotOptions
   svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << o.width << "\" height=\"" << o.height
       << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
       << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
-      << "<text x=\"" << o.width / 2 << "\" y=\"20\" text-anchor=\"middle\" font-size=\"14\">" << Escape(o.title)
+      << "<text x=\"" << o.width / 2 << "\" y=\"20\" text-anchor=\"middle\" font-size=\"14\">" << XmlEscape(o.title)
       << "</text>\n"
       << "<rect x=\"" << left << "\" y=\"" << top << "\" width=\"" << pw << "\" height=\"" << ph
       << "\" fill=\"none\" stroke=\"#444\"/>\n";
   for (double t : LinearTicks(xmin, xmax))
     svg << "<line x1=\"" << px(t) << "\" y1=\"" << top + ph << "\" x2=\"" << px(t) << "\" y2=\"" << top + ph + 5
         << "\" stroke=\"#444\"/><text x=\"" << px(t) << "\" y=\"" << top + ph + 18 << "\" text-anchor=\"middle\">"
-        << Num(t) << "</text>\n";
+        << FormatNumber("%.4g", t) << "</text>\n";
   std::vector<double> yticks;
   if (o.log_y) {
     for (double e = std::floor(ymin); e <= ymax + 1e-9; e += 1.0)
@@ -95,11 +80,11 @@ std::string LinePlotSvg(const std::vector<PlotSeries>& series, const PlotOptions
   for (double t : yticks)
     svg << "<line x1=\"" << left << "\" y1=\"" << py(t) << "\" x2=\"" << left + pw << "\" y2=\"" << py(t)
         << "\" stroke=\"#ddd\"/><text x=\"" << left - 6 << "\" y=\"" << py(t) + 4 << "\" text-anchor=\"end\">"
-        << Num(o.log_y ? std::pow(10.0, t) : t) << "</text>\n";
+        << FormatNumber("%.4g", o.log_y ? std::pow(10.0, t) : t) << "</text>\n";
   svg << "<text x=\"" << left + pw / 2 << "\" y=\"" << o.height - 12 << "\" text-anchor=\"middle\">"
-      << Escape(o.x_label) << "</text>\n"
+      << XmlEscape(o.x_label) << "</text>\n"
       << "<text transform=\"translate(16," << top + ph / 2 << ") rotate(-90)\" text-anchor=\"middle\">"
-      << Escape(o.y_label) << (o.log_y ? " (log scale)" : "") << "</text>\n";
+      << XmlEscape(o.y_label) << (o.log_y ? " (log scale)" : "") << "</text>\n";
 
   for (size_t k = 0; k < series.size(); ++k) {
     const PlotSeries& s = series[k];
@@ -119,7 +104,7 @@ std::string LinePlotSvg(const std::vector<PlotSeries>& series, const PlotOptions
     const double ly = top + 14 + 16 * k;
     svg << "<line x1=\"" << left + pw - 130 << "\" y1=\"" << ly << "\" x2=\"" << left + pw - 110 << "\" y2=\"" << ly
         << "\" stroke=\"" << color << "\" stroke-width=\"3\"/><text x=\"" << left + pw - 104 << "\" y=\"" << ly + 4
-        << "\">" << Escape(s.name) << "</text>\n";
+        << "\">" << XmlEscape(s.name) << "</text>\n";
   }
   svg << "</svg>\n";
   return svg.str();

@@ -166,4 +166,19 @@ FeatureExtractionResult ExtractFeatures(const std::string& images_dir, const Cal
   return result;
 }
 
+nlohmann::json FeatureExtractionRecord(const FeatureExtractionResult& r) {
+  nlohmann::json record = {{"images", r.index.images.size()},
+                           {"images_extracted", r.num_extracted},
+                           {"images_cached", r.num_cached},
+                           {"megapixels_extracted", r.megapixels_extracted}};
+  if (r.megapixels_extracted > 0) record["seconds_per_megapixel"] = r.seconds / r.megapixels_extracted;
+  nlohmann::json skipped = nlohmann::json::array();
+  for (const SkippedImage& s : r.skipped) skipped.push_back({{"name", s.name}, {"reason", s.reason}});
+  record["images_skipped"] = skipped;
+  long total = 0;
+  for (const IndexedImage& im : r.index.images) total += im.num_features;
+  if (!r.index.images.empty()) record["features_mean"] = static_cast<double>(total) / r.index.images.size();
+  return record;
+}
+
 }  // namespace pgba

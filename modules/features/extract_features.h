@@ -43,4 +43,8 @@ struct FeatureExtractionResult {
 FeatureExtractionResult ExtractFeatures(const std::string& images_dir, const CalibrationInput& calibration,
                                         const std::string& workspace, const FeatureExtractionOptions& options);
 
+// The stage's record in report.json (`pgba features` and `pgba run`): image counts, skipped
+// images with reasons, megapixels, seconds per megapixel, mean features per image.
+nlohmann::json FeatureExtractionRecord(const FeatureExtractionResult& result);
+
 }  // namespace pgba

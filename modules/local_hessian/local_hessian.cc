@@ -29,6 +29,13 @@ const char* LocalHessianStatusName(LocalHessianStatus status) {
   return "unknown";
 }
 
+nlohmann::json LocalHessianStatusCounts(const LocalHessianResult& result) {
+  nlohmann::json j = nlohmann::json::object();
+  for (int s = 0; s < kNumLocalHessianStatus; ++s)
+    j[LocalHessianStatusName(static_cast<LocalHessianStatus>(s))] = result.status_counts[s];
+  return j;
+}
+
 LocalHessian ComputeLocalHessian(const Reconstruction& tracks, const Triplet& triplet, int triplet_index,
                                  const LocalHessianOptions& options) {
   LocalHessian out;

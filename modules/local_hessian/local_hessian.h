@@ -142,6 +142,9 @@ struct LocalHessianResult {
   int num_ok() const { return status_counts[0]; }
 };
 
+// {status name: count} over every status, "ok" included (report.json records).
+nlohmann::json LocalHessianStatusCounts(const LocalHessianResult& result);
+
 // One triplet (paper eqs. 1-3 and the decomposition of eq. 5).
 LocalHessian ComputeLocalHessian(const Reconstruction& tracks, const Triplet& triplet, int triplet_index,
                                  const LocalHessianOptions& options);

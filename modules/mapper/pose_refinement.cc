@@ -42,19 +42,10 @@ PreparedHessians PrepareLocalHessians(const Reconstruction& tracks, const std::v
   out.result = ComputeLocalHessians(tracks, triplets, options);
   out.seconds = timer.Seconds();
   out.peak_rss_mb = PeakRssMb();
-  PGBA_LOG_INFO << "local hessians: " << out.result.num_ok() << " of " << triplets.size() << " triplets usable in "
-                << out.seconds << " s";
   return out;
 }
 
 namespace {
-
-nlohmann::json HessianStatusCounts(const LocalHessianResult& r) {
-  nlohmann::json j = nlohmann::json::object();
-  for (int s = 0; s < kNumLocalHessianStatus; ++s)
-    j[LocalHessianStatusName(static_cast<LocalHessianStatus>(s))] = r.status_counts[s];
-  return j;
-}
 
 std::map<uint32_t, Pose> PosesOf(const Reconstruction& rec) {
   std::map<uint32_t, Pose> poses;
@@ -149,7 +140,7 @@ RefinementResult RefineWithTriplets(RefinementMethod method, const std::map<uint
                {"triplets_downweighted", g.summary.num_triplets_downweighted},
                {"rounds", g.summary.rounds},
                {"fitting_scale", g.summary.robust_scale},
-               {"local_hessians", HessianStatusCounts(hessians.result)}};
+               {"local_hessians", LocalHessianStatusCounts(hessians.result)}};
   if (gcps) r.details["gcp_residuals"] = g.summary.num_gcp_residuals;
   return r;
 }

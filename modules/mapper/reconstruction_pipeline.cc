@@ -63,9 +63,8 @@ void Refine(const Reconstruction& tracks, const ReconstructionOptions& options, 
     nlohmann::json& stage = timer.Stop();
     stage["triplets"] = out->init.init.triplets.size();
     stage["ok"] = out->hessians.result.num_ok();
-    for (int s = 1; s < kNumLocalHessianStatus; ++s)
-      stage["rejected"][LocalHessianStatusName(static_cast<LocalHessianStatus>(s))] =
-          out->hessians.result.status_counts[s];
+    stage["rejected"] = LocalHessianStatusCounts(out->hessians.result);
+    stage["rejected"].erase(LocalHessianStatusName(LocalHessianStatus::kOk));
   }
   const std::optional<GcpInput> gcps = TransferToGcpFrame(tracks, options, report, &out->init.init);
   {

@@ -3,9 +3,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "evaluation/sigma.h"
 #include "pgba/io/colmap_text.h"
-#include "pgba/io/two_view_geometries.h"
 #include "pgba/util/atomic_file.h"
 #include "pgba/util/error.h"
 #include "pgba/util/logging.h"
@@ -57,20 +55,11 @@ Reconstruction MatchOrReuse(const FeatureExtractionResult& features, const fs::p
     return tracks;
   }
   const MatchingResult r = MatchImages(out.string(), options);
-  WriteColmapText(r.tracks, (out / "tracks").string());
-  fs::create_directories(out / "matching");
-  WriteTwoViewGeometries(r.two_view_geometries, (out / "matching" / "two_view_geometries.txt").string());
+  WriteMatchingResult(out.string(), r);
   WriteStringAtomically((out / "tracks" / "key.json").string(), key.dump() + "\n");
   nlohmann::json& stage = timer.Stop();
+  stage.update(MatchingRecord(r));
   stage["cached"] = false;
-  stage["pairs"] = r.num_pairs;
-  stage["pairs_verified"] = r.two_view_geometries.size();
-  stage["putative_matches"] = r.num_putative;
-  stage["verified_matches"] = r.num_verified_matches;
-  stage["tracks"] = r.track_stats.num_tracks;
-  stage["mean_track_length"] = r.track_stats.mean_track_length;
-  stage["images_without_tracks"] = r.images_without_tracks;
-  if (r.num_pairs > 0) stage["seconds_per_pair"] = r.seconds_matching / r.num_pairs;
   return r.tracks;
 }
 
@@ -85,16 +74,7 @@ RunOutput RunPipeline(const std::string& images_dir, const CalibrationInput& cal
   {
     StageTimer timer(report, "features");
     features = ExtractFeatures(images_dir, calibration, out, options.features);
-    nlohmann::json& stage = timer.Stop();
-    stage["images"] = features.index.images.size();
-    stage["images_extracted"] = features.num_extracted;
-    stage["images_cached"] = features.num_cached;
-    stage["megapixels_extracted"] = features.megapixels_extracted;
-    if (features.megapixels_extracted > 0)
-      stage["seconds_per_megapixel"] = features.seconds / features.megapixels_extracted;
-    nlohmann::json skipped = nlohmann::json::array();
-    for (const SkippedImage& s : features.skipped) skipped.push_back({{"name", s.name}, {"reason", s.reason}});
-    stage["images_skipped"] = skipped;
+    timer.Stop().update(FeatureExtractionRecord(features));
   }
   if (features.index.images.size() < 3)
     throw InputError(images_dir + ": " + std::to_string(features.index.images.size()) +

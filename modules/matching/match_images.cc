@@ -6,8 +6,12 @@
 #include <map>
 #include <set>
 
+#include <filesystem>
+
 #include "features/feature_file.h"
 #include "features/feature_index.h"
+#include "pgba/io/colmap_text.h"
+#include "pgba/io/two_view_geometries.h"
 #include "pgba/util/error.h"
 #include "pgba/util/logging.h"
 #include "pgba/util/progress.h"
@@ -150,6 +154,33 @@ MatchingResult MatchImages(const std::string& workspace, const MatchingOptions& 
                 << result.track_stats.num_tracks << " tracks (" << result.track_stats.num_conflicting
                 << " conflicting dropped), " << result.seconds << " s";
   return result;
+}
+
+void WriteMatchingResult(const std::string& workspace, const MatchingResult& result) {
+  const std::filesystem::path ws(workspace);
+  WriteColmapText(result.tracks, (ws / "tracks").string());
+  std::filesystem::create_directories(ws / "matching");
+  WriteTwoViewGeometries(result.two_view_geometries, (ws / "matching" / "two_view_geometries.txt").string());
+}
+
+nlohmann::json TrackRecord(const Reconstruction& tracks, const TrackStats& st) {
+  return {{"images", tracks.images.size()},
+          {"tracks", st.num_tracks},
+          {"observations", st.num_observations},
+          {"mean_track_length", st.mean_track_length},
+          {"tracks_conflicting_dropped", st.num_conflicting}};
+}
+
+nlohmann::json MatchingRecord(const MatchingResult& r) {
+  nlohmann::json record = TrackRecord(r.tracks, r.track_stats);
+  record["pairs"] = r.num_pairs;
+  record["pairs_verified"] = r.two_view_geometries.size();
+  record["putative_matches"] = r.num_putative;
+  record["verified_matches"] = r.num_verified_matches;
+  record["seconds_matching"] = r.seconds_matching;
+  if (r.num_pairs > 0) record["seconds_per_pair"] = r.seconds_matching / r.num_pairs;
+  record["images_without_tracks"] = r.images_without_tracks;
+  return record;
 }
 
 }  // namespace pgba

@@ -48,4 +48,12 @@ struct MatchingResult {
 // images, or an unreadable feature file. Deterministic whatever the number of threads.
 MatchingResult MatchImages(const std::string& workspace, const MatchingOptions& options);
 
+// WS/tracks/ (COLMAP text model) and WS/matching/two_view_geometries.txt.
+void WriteMatchingResult(const std::string& workspace, const MatchingResult& result);
+
+// The stage's records in report.json (`pgba match` and `pgba run`): the tracks' counts, and
+// those plus the pairs, matches and timing of a matching run.
+nlohmann::json TrackRecord(const Reconstruction& tracks, const TrackStats& stats);
+nlohmann::json MatchingRecord(const MatchingResult& result);
+
 }  // namespace pgba
