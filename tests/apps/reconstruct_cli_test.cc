@@ -3,31 +3,18 @@
 // one; `--workspace` re-runs the global BA from the stored triplets and local hessians and
 // gives the same poses; a foreign or incomplete workspace is an error naming the file.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "pgba/geometry/rotation.h"
 #include "pgba/io/colmap_text.h"
+#include "tests/apps/cli_runner.h"
 
 namespace {
 namespace fs = std::filesystem;
-
-struct RunResult {
-  int code = -1;
-  std::string err;
-};
-
-std::string Slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 class ReconstructCli : public ::testing::Test {
  protected:
@@ -43,12 +30,7 @@ class ReconstructCli : public ::testing::Test {
   }
   static void TearDownTestSuite() { fs::remove_all(dir_); }
 
-  static RunResult Run(const std::string& args) {
-    const fs::path err = dir_ / "stderr.txt";
-    const std::string cmd = std::string(PGBA_BINARY) + " -v 0 " + args + " > /dev/null 2> " + err.string();
-    const int status = std::system(cmd.c_str());
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, Slurp(err)};
-  }
+  static pgba::test::CliResult Run(const std::string& args) { return pgba::test::RunPgba("-v 0 " + args); }
 
   static nlohmann::json Evaluate(const fs::path& model) {
     const fs::path json = dir_ / "eval.json";
@@ -96,13 +78,13 @@ TEST_F(ReconstructCli, ForeignOrIncompleteWorkspaceIsAnErrorNamingTheFile) {
   const fs::path ws = dir_ / "ws_other";
   ASSERT_EQ(Run("reconstruct --tracks " + (dir_ / "other" / "input").string() + " --out " + ws.string()).code, 0);
   const std::string tracks = " --tracks " + (dir_ / "scene" / "input").string();
-  RunResult r = Run("reconstruct" + tracks + " --out " + (dir_ / "x").string() + " --workspace " + ws.string());
+  pgba::test::CliResult r = Run("reconstruct" + tracks + " --out " + (dir_ / "x").string() + " --workspace " + ws.string());
   EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.err.find((ws / "pairs.json").string()), std::string::npos) << r.err;
+  EXPECT_NE(r.output.find((ws / "pairs.json").string()), std::string::npos) << r.output;
   fs::remove(ws / "triplets.json");
   r = Run("reconstruct" + tracks + " --out " + (dir_ / "x").string() + " --workspace " + ws.string());
   EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.err.find("triplets.json: missing"), std::string::npos) << r.err;
+  EXPECT_NE(r.output.find("triplets.json: missing"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir_ / "x" / "sparse"));
 }
 

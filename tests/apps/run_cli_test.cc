@@ -3,13 +3,13 @@
 // every output written; a re-run reuses the features and tracks; an empty folder or a
 // folder of non-images fails with exit code 2, a failed report.json and no report.html.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
+
+#include "tests/apps/cli_runner.h"
 
 namespace {
 namespace fs = std::filesystem;
@@ -26,24 +26,19 @@ class RunCli : public ::testing::Test {
   static void TearDownTestSuite() { fs::remove_all(dir_); }
 
   static int Run(const std::string& args) {
-    const std::string cmd =
-        std::string(PGBA_BINARY) + " -v 0 " + args + " > /dev/null 2> " + (dir_ / "stderr.txt").string();
-    const int status = std::system(cmd.c_str());
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    last_ = pgba::test::RunPgba("-v 0 " + args);
+    return last_.code;
   }
   static nlohmann::json Json(const fs::path& p) {
     std::ifstream in(p);
     return nlohmann::json::parse(in);
   }
-  static std::string Stderr() {
-    std::ifstream in(dir_ / "stderr.txt");
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-  }
+  static std::string Stderr() { return last_.output; }
   static fs::path dir_;
+  static pgba::test::CliResult last_;
 };
 fs::path RunCli::dir_;
+pgba::test::CliResult RunCli::last_;
 
 TEST_F(RunCli, RenderedSceneEveryImageRegisteredAndAccurate) {
   const fs::path out = dir_ / "out";

@@ -2,9 +2,7 @@
 // scene the library generates; `--render` writes the image dataset layout; bad arguments
 // exit with code 2 and a one-line error.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -14,26 +12,14 @@
 #include "modules/synthetic/synthetic_scene.h"
 #include "pgba/io/colmap_text.h"
 #include "pgba/io/loop_pairs.h"
+#include "tests/apps/cli_runner.h"
 
 namespace pgba {
 namespace {
 namespace fs = std::filesystem;
 
-struct CliResult {
-  int code = -1;
-  std::string output;  // stdout + stderr
-};
-
-CliResult RunPgba(const std::string& args) {
-  CliResult r;
-  FILE* pipe = ::popen((std::string(PGBA_BINARY) + " " + args + " 2>&1").c_str(), "r");
-  if (!pipe) return r;
-  std::array<char, 4096> buf;
-  while (fgets(buf.data(), buf.size(), pipe)) r.output += buf.data();
-  const int status = ::pclose(pipe);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+using test::CliResult;
+using test::RunPgba;
 
 fs::path TempDir(const std::string& name) {
   const fs::path d = fs::temp_directory_path() / ("pgba_synth_cli_" + std::to_string(::getpid()) + "_" + name);

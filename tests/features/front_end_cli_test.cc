@@ -2,34 +2,21 @@
 // without are skipped with a warning naming them; inputs it cannot do without stop it with
 // a one-line "error: ..." and exit code 2; nothing crashes.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <array>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "tests/apps/cli_runner.h"
+
 namespace pgba {
 namespace {
 namespace fs = std::filesystem;
 
-struct CliResult {
-  int code = -1;
-  std::string output;  // stdout + stderr
-};
-
-CliResult RunPgba(const std::string& args) {
-  CliResult r;
-  FILE* pipe = ::popen((std::string(PGBA_BINARY) + " " + args + " 2>&1").c_str(), "r");
-  if (!pipe) return r;
-  std::array<char, 4096> buf;
-  while (fgets(buf.data(), buf.size(), pipe)) r.output += buf.data();
-  const int status = ::pclose(pipe);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+using test::CliResult;
+using test::RunPgba;
 
 int CountLines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
 
