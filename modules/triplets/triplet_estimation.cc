@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "pgba/geometry/rotation.h"
 #include "pgba/geometry/sim3.h"
@@ -66,6 +67,33 @@ double Median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
+// Length of the baseline hinge -> c of an open triplet, in the base pair's scale: each track
+// seen by all three views is triangulated again from (hinge, c) with a unit baseline, and
+// the ratio of its distances to the hinge centre (base pair / unit) is one measurement of
+// the length; the median is robust to a minority of bad tracks. Empty without a finite,
+// positive median.
+std::optional<double> BaselineScale(const TrackIndex& index, const std::array<uint32_t, 3>& ids, int hinge, int c,
+                                    const Pose& hinge_pose, const Pose& hinge_to_c,
+                                    const std::vector<const TripletTrack*>& tracks,
+                                    const std::vector<Eigen::Vector3d>& base_points, const TriangulationOptions& tri) {
+  const Pose unit_c = Pose::FromQt(hinge_to_c.q() * hinge_pose.q(), hinge_to_c.q() * hinge_pose.t() + hinge_to_c.t());
+  const Eigen::Vector3d centre = hinge_pose.C();
+  std::vector<double> ratios;
+  for (size_t k = 0; k < tracks.size(); ++k) {
+    const TripletTrack& t = *tracks[k];
+    const TriangulatedPoint X = TriangulateTrack({ViewOf(index, ids[hinge], t.point2D_idx[hinge], hinge_pose),
+                                                  ViewOf(index, ids[c], t.point2D_idx[c], unit_c)},
+                                                 tri);
+    if (!X.ok || std::max(X.residuals_px[0], X.residuals_px[1]) > tri.outlier_px) continue;
+    const double d = (X.X - centre).norm();
+    if (d > 0.0) ratios.push_back((base_points[k] - centre).norm() / d);
+  }
+  if (ratios.empty()) return std::nullopt;
+  const double s = Median(ratios);
+  if (!std::isfinite(s) || !(s > 0.0)) return std::nullopt;
+  return s;
+}
+
 }  // namespace
 
 Pose RelativePoseOfPair(const TwoViewGeometry& pair, uint32_t from, uint32_t to) {
@@ -89,24 +117,31 @@ TripletEstimate EstimateTriplet(const TrackIndex& index, const std::array<uint32
   const std::vector<TripletTrack> tracks = TracksOfTriplet(index, ids);
   if (static_cast<int>(tracks.size()) < options.min_tracks) return reject(TripletRejection::kTooFewTracks);
 
-  // 1. Base pair (positions va, vb) and third view vc.
+  // 1. Base pair (positions va, vb) and third view vc. An open triplet (one pair missing)
+  // takes its base among the two pairs it has, so the third view hangs on the hinge.
   static constexpr int kPairViews[3][2] = {{0, 1}, {0, 2}, {1, 2}};
-  int best = 0;
+  int best = -1, missing = -1;
   double best_score = -1.0, best_angle = 0.0;
   for (int p = 0; p < 3; ++p) {
+    if (!pairs[p]) {
+      missing = p;
+      continue;
+    }
     const double s = TripletScore(pairs[p]->num_inliers, pairs[p]->median_triangulation_angle_deg, options);
     best_angle = std::max(best_angle, pairs[p]->median_triangulation_angle_deg);
     if (s > best_score) best_score = s, best = p;
   }
+  if (best < 0) return reject(TripletRejection::kInitFailed);
   if (best_angle < options.min_triangulation_angle_deg) return reject(TripletRejection::kDegenerate);
   const int va = kPairViews[best][0], vb = kPairViews[best][1], vc = 3 - va - vb;
   std::array<Pose, 3> poses;
   poses[vb] = RelativePoseOfPair(*pairs[best], ids[va], ids[vb]);
 
-  // 2. Scale from the base pair's points; third view by absolute pose on them.
+  // 2. Scale from the base pair's points; third view placed on them.
   TriangulationOptions tri;
   tri.outlier_px = options.outlier_threshold_px;
   tri.min_angle_deg = options.min_track_angle_deg;
+  std::vector<const TripletTrack*> seen_by_all;
   std::vector<Eigen::Vector3d> bearings_c, points;
   for (const TripletTrack& t : tracks) {
     if (t.NumViews() < 3) continue;
@@ -114,20 +149,35 @@ TripletEstimate EstimateTriplet(const TrackIndex& index, const std::array<uint32
         {ViewOf(index, ids[va], t.point2D_idx[va], poses[va]), ViewOf(index, ids[vb], t.point2D_idx[vb], poses[vb])},
         tri);
     if (!X.ok || std::max(X.residuals_px[0], X.residuals_px[1]) > options.outlier_threshold_px) continue;
+    seen_by_all.push_back(&t);
     bearings_c.push_back(index.Bearing(ids[vc], static_cast<uint32_t>(t.point2D_idx[vc])));
     points.push_back(X.X);
   }
-  if (static_cast<int>(points.size()) < options.absolute_pose.min_inliers)
-    return reject(TripletRejection::kTooFewTracks);
-  AbsolutePoseOptions ap = options.absolute_pose;
-  ap.seed = seed;
-  const AbsolutePoseResult abs = EstimateAbsolutePose(bearings_c, points, index.CameraOf(ids[vc]).MeanFocal(), ap);
-  if (!abs.success) return reject(TripletRejection::kInitFailed);
-  poses[vc] = abs.pose;
-  for (int v : {va, vb}) {
-    const Eigen::Matrix3d R_cv = poses[vc].R() * poses[v].R().transpose();
-    const Eigen::Matrix3d R_pair = RelativePoseOfPair(*pairs[PairIndex(v, vc)], ids[v], ids[vc]).R();
-    if (RotationAngleDeg(R_cv, R_pair) > options.max_rotation_cycle_deg) return reject(TripletRejection::kRotationCycle);
+  if (missing >= 0) {
+    // Open: the hinge's pair to vc gives its rotation and direction; only the length of
+    // that baseline is unknown, measured on the tracks seen by all three views.
+    const int hinge = PairIndex(va, vc) == missing ? vb : va;
+    if (static_cast<int>(points.size()) < options.open_min_tracks_all_views)
+      return reject(TripletRejection::kTooFewTracks);
+    const Pose hc = RelativePoseOfPair(*pairs[PairIndex(hinge, vc)], ids[hinge], ids[vc]);
+    const std::optional<double> s = BaselineScale(index, ids, hinge, vc, poses[hinge], hc, seen_by_all, points, tri);
+    if (!s) return reject(TripletRejection::kInitFailed);
+    poses[vc] = Pose::FromQt(hc.q() * poses[hinge].q(), hc.q() * poses[hinge].t() + *s * hc.t());
+  } else {
+    // Closed: OpenGV absolute pose (P3P in RANSAC); its rotation must close with the pairs.
+    if (static_cast<int>(points.size()) < options.absolute_pose.min_inliers)
+      return reject(TripletRejection::kTooFewTracks);
+    AbsolutePoseOptions ap = options.absolute_pose;
+    ap.seed = seed;
+    const AbsolutePoseResult abs = EstimateAbsolutePose(bearings_c, points, index.CameraOf(ids[vc]).MeanFocal(), ap);
+    if (!abs.success) return reject(TripletRejection::kInitFailed);
+    poses[vc] = abs.pose;
+    for (int v : {va, vb}) {
+      const Eigen::Matrix3d R_cv = poses[vc].R() * poses[v].R().transpose();
+      const Eigen::Matrix3d R_pair = RelativePoseOfPair(*pairs[PairIndex(v, vc)], ids[v], ids[vc]).R();
+      if (RotationAngleDeg(R_cv, R_pair) > options.max_rotation_cycle_deg)
+        return reject(TripletRejection::kRotationCycle);
+    }
   }
 
   // 3. Every track seen by >= 2 views, robustly triangulated with the three poses.

@@ -7,6 +7,9 @@
 //      of the triplet); the third view c is placed by OpenGV absolute pose (P3P in RANSAC +
 //      nonlinear refinement) on the ones it also sees. Its rotation must agree with the
 //      pairs (a, c) and (b, c) (max_rotation_cycle_deg).
+//      Open triplet (one of the three pairs did not verify; see TripletOptions::open_triplets):
+//      c takes the rotation and direction of its pair with the hinge view, and the length of
+//      that baseline is the median ratio of the depths of the tracks seen by all three views.
 //   3. Every track seen by >= 2 of the 3 views is triangulated robustly; observations off by
 //      more than outlier_threshold_px are dropped.
 //   4. Triplet BA (BundleAdjust: 3 poses + points, Huber), gauge a fixed and |C_b - C_a|
@@ -36,7 +39,8 @@ struct TripletEstimate {
 };
 
 // `image_ids` ascending; pairs[0], pairs[1], pairs[2] are the verified geometries of the
-// pairs (ids[0], ids[1]), (ids[0], ids[2]), (ids[1], ids[2]). Deterministic for a seed.
+// pairs (ids[0], ids[1]), (ids[0], ids[2]), (ids[1], ids[2]); at most one may be null (an
+// open triplet). Deterministic for a seed.
 TripletEstimate EstimateTriplet(const TrackIndex& index, const std::array<uint32_t, 3>& image_ids,
                                 const std::array<const TwoViewGeometry*, 3>& pairs, const TripletOptions& options,
                                 uint64_t seed);

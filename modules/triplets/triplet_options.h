@@ -23,6 +23,16 @@ struct TripletOptions {
   // Triangles of the view graph whose pairwise rotations do not close (angle of
   // R_ki^T R_kj R_ji, degrees) are inconsistent and skipped before estimation.
   double max_rotation_cycle_deg = 3.0;
+  // Open triplets: paths a - b - c of two verified pairs whose third pair (a, c) did not
+  // verify. Triangles alone break a ring at a wide gap or a chain whose skip pairs do not
+  // match (the triplet graph then falls into pieces joined by single images, whose relative
+  // scale nothing measures). Where that happens, and only there (open candidates are made
+  // for pairs in different triplet-graph components or in none), open triplets bridge the
+  // pieces. Their one extra unknown, the length of the hinge's second baseline, is measured
+  // on the tracks seen by all three views: a median needs few (3 tolerate one bad track);
+  // how well they measure it is what the triplet's local hessian then tells the global BA.
+  bool open_triplets = true;
+  int open_min_tracks_all_views = 3;
   // --- estimation ---
   // Third view placed by absolute pose on the points triangulated from the best pair
   // (only an initialisation for the triplet BA: a loose threshold and few inliers suffice).
@@ -53,7 +63,8 @@ struct TripletOptions {
   uint64_t seed = 1;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(TripletOptions, selection, max_triplets_per_image,
-                                                max_selection_rounds, max_rotation_cycle_deg, absolute_pose,
+                                                max_selection_rounds, max_rotation_cycle_deg, open_triplets,
+                                                open_min_tracks_all_views, absolute_pose,
                                                 outlier_threshold_px, min_track_angle_deg, bundle_adjuster, min_tracks,
                                                 max_rms_px, min_triangulation_angle_deg, score_angle_deg, seed)
 
@@ -63,6 +74,8 @@ const char* TripletRejectionName(TripletRejection r);
 
 struct TripletStats {
   int candidates = 0;                 // triangles of the view graph
+  int open_candidates = 0;            // open triplets tried as bridges (TripletOptions::open_triplets)
+  int open_selected = 0;              // of the returned triplets
   int rejected_rotation_cycle = 0;    // before estimation
   int rejected_few_tracks_precheck = 0;  // before estimation: too few shared tracks
   int estimated = 0;                  // triplet estimations run

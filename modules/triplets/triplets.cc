@@ -68,6 +68,90 @@ void EstimateAll(const TrackIndex& index, const std::vector<size_t>& todo, const
   }
 }
 
+// Candidate for the images `ids` (ascending); one of the three pairs may be absent (open).
+Candidate MakeCandidate(const std::array<uint32_t, 3>& ids, const std::map<uint64_t, const TwoViewGeometry*>& by_key) {
+  Candidate c;
+  c.ids = ids;
+  auto find = [&](uint32_t a, uint32_t b) -> const TwoViewGeometry* {
+    auto it = by_key.find(PairKey(a, b));
+    return it == by_key.end() ? nullptr : it->second;
+  };
+  c.pairs = {find(ids[0], ids[1]), find(ids[0], ids[2]), find(ids[1], ids[2])};
+  return c;
+}
+
+// Before estimation: a closed triplet's pair rotations must close; every triplet needs
+// enough tracks, and enough seen by all three views to place its third view (absolute pose
+// for a closed one, one baseline length for an open one). Sets the prior score; false (with
+// the rejection set) if the candidate is not worth estimating.
+bool Precheck(const TrackIndex& index, const TripletOptions& options, Candidate* c) {
+  const bool open = !c->pairs[0] || !c->pairs[1] || !c->pairs[2];
+  if (!open && RotationCycleDeg(*c) > options.max_rotation_cycle_deg) {
+    c->estimate.rejection = TripletRejection::kRotationCycle;
+    return false;
+  }
+  int n3 = 0, n2 = 0;
+  for (const TripletTrack& t : TracksOfTriplet(index, c->ids)) {
+    ++n2;
+    n3 += t.NumViews() == 3;
+  }
+  if (n2 < options.min_tracks || n3 < (open ? options.open_min_tracks_all_views : options.absolute_pose.min_inliers)) {
+    c->estimate.rejection = TripletRejection::kTooFewTracks;
+    return false;
+  }
+  double angle = 0.0;
+  for (const TwoViewGeometry* g : c->pairs)
+    if (g) angle = std::max(angle, g->median_triangulation_angle_deg);
+  c->prior_score = TripletScore(n3, angle, options);
+  return true;
+}
+
+// Open triplets that can join what the estimated triplets leave apart: paths a - b - c of
+// two verified pairs, (a, c) not a pair, whose two pairs lie in different components of the
+// triplet graph of `kept`, or one in a component and the other in no triplet, or both in no
+// triplet with an image of the path uncovered. Ascending ids, lexicographic order.
+std::vector<std::array<uint32_t, 3>> BridgingPaths(const std::vector<TwoViewGeometry>& pairs,
+                                                   const std::vector<std::array<uint32_t, 3>>& kept) {
+  int num_components = 0;
+  const std::vector<int> label_of_triplet = TripletGraphComponents(kept, &num_components);
+  std::map<uint64_t, int> label;  // pair -> component of the triplets holding it
+  std::set<uint32_t> covered;
+  for (size_t i = 0; i < kept.size(); ++i) {
+    const auto& t = kept[i];
+    covered.insert(t.begin(), t.end());
+    for (uint64_t e : {PairKey(t[0], t[1]), PairKey(t[0], t[2]), PairKey(t[1], t[2])}) label[e] = label_of_triplet[i];
+  }
+  std::map<uint32_t, std::vector<uint32_t>> neighbours;
+  std::set<uint64_t> is_pair;
+  for (const TwoViewGeometry& g : pairs) {
+    if (g.image_id1 == g.image_id2 || !is_pair.insert(PairKey(g.image_id1, g.image_id2)).second) continue;
+    neighbours[g.image_id1].push_back(g.image_id2);
+    neighbours[g.image_id2].push_back(g.image_id1);
+  }
+  auto label_or = [&](uint32_t a, uint32_t b) {
+    auto it = label.find(PairKey(a, b));
+    return it == label.end() ? -1 : it->second;
+  };
+  std::set<std::array<uint32_t, 3>> paths;
+  for (auto& [hinge, list] : neighbours) {
+    std::sort(list.begin(), list.end());
+    for (size_t i = 0; i < list.size(); ++i) {
+      for (size_t j = i + 1; j < list.size(); ++j) {
+        const uint32_t a = list[i], c = list[j];
+        if (is_pair.count(PairKey(a, c))) continue;  // a triangle: not open
+        // Pairs in no kept triplet are unlabelled (-1): a path of two of them can only help
+        // if it covers an image that no triplet holds yet.
+        const int la = label_or(a, hinge), lc = label_or(hinge, c);
+        if (la < 0 && lc < 0 ? covered.count(a) && covered.count(hinge) && covered.count(c) : la == lc) continue;
+        std::array<uint32_t, 3> ids{a, hinge, c};
+        std::sort(ids.begin(), ids.end());
+        paths.insert(ids);
+      }
+    }
+  }
+  return {paths.begin(), paths.end()};
+}
+
 }  // namespace
 
 std::vector<std::array<uint32_t, 3>> EnumerateTriangles(const std::vector<TwoViewGeometry>& pairs) {
@@ -105,6 +189,8 @@ std::vector<std::array<uint32_t, 3>> EnumerateTriangles(const std::vector<TwoVie
 
 nlohmann::json ToJson(const TripletStats& s) {
   return {{"candidates", s.candidates},
+          {"open_candidates", s.open_candidates},
+          {"open_selected", s.open_selected},
           {"rejected_rotation_cycle", s.rejected_rotation_cycle},
           {"rejected_few_tracks_precheck", s.rejected_few_tracks_precheck},
           {"estimated", s.estimated},
@@ -137,70 +223,80 @@ std::vector<Triplet> BuildTriplets(const Reconstruction& tracks, const std::vect
   stats.images_in_view_graph = static_cast<int>(graph_images.size());
 
   // Candidates: consistent rotation cycle, enough shared tracks; prior score for selection.
+  std::vector<Candidate> candidates;
+  auto add_candidates = [&](const std::vector<std::array<uint32_t, 3>>& ids_list) {
+    std::vector<Candidate> all(ids_list.size());
+    std::vector<uint8_t> usable(ids_list.size(), 0);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, ids_list.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i != r.end(); ++i) {
+        all[i] = MakeCandidate(ids_list[i], by_key);
+        usable[i] = Precheck(index, options, &all[i]);
+      }
+    });
+    for (size_t i = 0; i < all.size(); ++i) {
+      if (usable[i]) {
+        candidates.push_back(std::move(all[i]));
+      } else if (all[i].estimate.rejection == TripletRejection::kRotationCycle) {
+        ++stats.rejected_rotation_cycle;
+      } else {
+        ++stats.rejected_few_tracks_precheck;
+      }
+    }
+  };
   const std::vector<std::array<uint32_t, 3>> triangles = EnumerateTriangles(pairs);
   stats.candidates = static_cast<int>(triangles.size());
-  std::vector<Candidate> all(triangles.size());
-  std::vector<uint8_t> usable(triangles.size(), 0);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, triangles.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) {
-      Candidate& c = all[i];
-      c.ids = triangles[i];
-      c.pairs = {by_key.at(PairKey(c.ids[0], c.ids[1])), by_key.at(PairKey(c.ids[0], c.ids[2])),
-                 by_key.at(PairKey(c.ids[1], c.ids[2]))};
-      if (RotationCycleDeg(c) > options.max_rotation_cycle_deg) {
-        c.estimate.rejection = TripletRejection::kRotationCycle;
-        continue;
-      }
-      int n3 = 0, n2 = 0;
-      for (const TripletTrack& t : TracksOfTriplet(index, c.ids)) {
-        ++n2;
-        n3 += t.NumViews() == 3;
-      }
-      if (n2 < options.min_tracks || n3 < options.absolute_pose.min_inliers) {
-        c.estimate.rejection = TripletRejection::kTooFewTracks;
-        continue;
-      }
-      double angle = 0.0;
-      for (const TwoViewGeometry* g : c.pairs) angle = std::max(angle, g->median_triangulation_angle_deg);
-      c.prior_score = TripletScore(n3, angle, options);
-      usable[i] = 1;
-    }
-  });
-  std::vector<Candidate> candidates;
-  for (size_t i = 0; i < all.size(); ++i) {
-    if (usable[i]) {
-      candidates.push_back(std::move(all[i]));
-    } else if (all[i].estimate.rejection == TripletRejection::kRotationCycle) {
-      ++stats.rejected_rotation_cycle;
-    } else {
-      ++stats.rejected_few_tracks_precheck;
-    }
-  }
+  add_candidates(triangles);
 
   // Select -> estimate the newly selected -> select again keeping the estimated ones and
   // replacing the failures, until the selection is fully estimated.
   const int max_per_image = options.selection ? options.max_triplets_per_image : 0;
   std::vector<size_t> selected;
-  for (int round = 0;; ++round) {
-    std::vector<TripletCandidate> view(candidates.size());
-    for (size_t i = 0; i < candidates.size(); ++i) {
-      view[i].image_ids = candidates[i].ids;
-      view[i].excluded = candidates[i].state == State::kFailed;
-      view[i].locked = candidates[i].state == State::kEstimated;
-      view[i].score = candidates[i].state == State::kEstimated ? candidates[i].estimate.score : candidates[i].prior_score;
+  int round = 0;
+  auto select_and_estimate = [&] {
+    for (;; ++round) {
+      std::vector<TripletCandidate> view(candidates.size());
+      for (size_t i = 0; i < candidates.size(); ++i) {
+        view[i].image_ids = candidates[i].ids;
+        view[i].excluded = candidates[i].state == State::kFailed;
+        view[i].locked = candidates[i].state == State::kEstimated;
+        view[i].score =
+            candidates[i].state == State::kEstimated ? candidates[i].estimate.score : candidates[i].prior_score;
+      }
+      selected = SelectTriplets(view, max_per_image);
+      std::vector<size_t> todo;
+      for (size_t i : selected)
+        if (candidates[i].state == State::kPending) todo.push_back(i);
+      if (todo.empty()) break;
+      if (round >= std::max(1, options.max_selection_rounds)) {
+        PGBA_LOG_WARN << "triplet selection: " << todo.size() << " selected triplets left unestimated after "
+                      << round << " rounds";
+        break;
+      }
+      stats.selection_rounds = round + 1;
+      EstimateAll(index, todo, options, round, &candidates, &stats);
     }
-    selected = SelectTriplets(view, max_per_image);
-    std::vector<size_t> todo;
+  };
+  auto kept_ids = [&] {
+    std::vector<std::array<uint32_t, 3>> ids;
     for (size_t i : selected)
-      if (candidates[i].state == State::kPending) todo.push_back(i);
-    if (todo.empty()) break;
-    if (round >= std::max(1, options.max_selection_rounds)) {
-      PGBA_LOG_WARN << "triplet selection: " << todo.size() << " selected triplets left unestimated after "
-                    << round << " rounds";
-      break;
+      if (candidates[i].state == State::kEstimated) ids.push_back(candidates[i].ids);
+    return ids;
+  };
+  select_and_estimate();
+
+  // Open triplets where the triangles leave the graph in pieces or an image uncovered.
+  if (options.open_triplets) {
+    const std::vector<std::array<uint32_t, 3>> kept = kept_ids();
+    std::set<uint32_t> covered_by_kept;
+    for (const auto& t : kept) covered_by_kept.insert(t.begin(), t.end());
+    int pieces = 0;
+    TripletGraphComponents(kept, &pieces);
+    if (pieces > 1 || covered_by_kept.size() < graph_images.size()) {
+      const std::vector<std::array<uint32_t, 3>> paths = BridgingPaths(pairs, kept);
+      stats.open_candidates = static_cast<int>(paths.size());
+      add_candidates(paths);
+      select_and_estimate();
     }
-    stats.selection_rounds = round + 1;
-    EstimateAll(index, todo, options, round, &candidates, &stats);
   }
 
   std::vector<Triplet> result;
@@ -209,6 +305,8 @@ std::vector<Triplet> BuildTriplets(const Reconstruction& tracks, const std::vect
   for (size_t i : selected) {
     if (candidates[i].state != State::kEstimated) continue;
     result.push_back(candidates[i].estimate.triplet);
+    const auto& p = candidates[i].pairs;
+    stats.open_selected += !p[0] || !p[1] || !p[2];
     for (uint32_t id : candidates[i].ids) covered.insert(id);
     rms.push_back(candidates[i].estimate.triplet.rms_px);
   }
@@ -222,7 +320,8 @@ std::vector<Triplet> BuildTriplets(const Reconstruction& tracks, const std::vect
     stats.median_rms_px = rms[rms.size() / 2];
   }
   stats.seconds = timer.Seconds();
-  PGBA_LOG_INFO << "triplets: " << stats.selected << " kept of " << stats.candidates << " candidates ("
+  PGBA_LOG_INFO << "triplets: " << stats.selected << " kept of " << stats.candidates << " candidates + "
+                << stats.open_candidates << " open (" << stats.open_selected << " open kept, "
                 << stats.estimated << " estimated), " << stats.images_covered << "/" << stats.images_in_view_graph
                 << " images covered, " << stats.triplet_graph_components << " component(s), " << stats.seconds
                 << " s";

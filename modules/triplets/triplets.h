@@ -2,7 +2,9 @@
 // triplets with local poses of one consistent scale, refined by a triplet BA.
 //
 //   candidates  = triangles of the view graph whose pair rotations close (rotation cycle)
-//                 and that share enough tracks;
+//                 and that share enough tracks; then, only if the estimated triangles leave
+//                 the triplet graph in pieces or an image uncovered, open triplets (two
+//                 verified pairs a - b - c) that bridge them (TripletOptions::open_triplets);
 //   estimation  = triplet_estimation.h, parallel over triplets (TBB, one result slot each);
 //   selection   = triplet_selection.h (on by default): candidates are scored before
 //                 estimation (tracks seen by all three views x pair angles), the selected
