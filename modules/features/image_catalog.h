@@ -6,6 +6,12 @@
 //     ('#' comments allowed); an image absent from the map is skipped with a warning.
 // Without an explicit calibration path, DIR/cameras.txt and then DIR/../cameras.txt are
 // tried (the layout of the datasets in shared/datasets).
+// Without any calibration file, the cameras are priors, as COLMAP makes them: every image is
+// decoded for its size and gets a PINHOLE camera with fx = fy = its EXIF focal
+// (exif_focal.h; 1.2 * max(width, height) without a usable one) and the principal point at
+// the image centre; images of the same size and focal share a camera, and each camera gets
+// one warning line. pgba neither refines intrinsics nor models distortion, so such a run is
+// only as good as the prior.
 #pragma once
 
 #include <cstdint>
@@ -13,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "features/feature_index.h"
 #include "pgba/scene/camera.h"
 
 namespace pgba {
@@ -24,7 +31,10 @@ struct CalibrationInput {
 
 struct ImageCatalog {
   std::map<uint32_t, Camera> cameras;
-  std::string cameras_path;  // the calibration file actually used
+  std::string cameras_path;  // the calibration file actually used; "" for EXIF priors
+  // "file: PATH", or for priors "exif" / "default-prior" / "exif+default-prior" (some
+  // cameras from EXIF, some on the default).
+  std::string calibration_source;
   // File name (relative to the folder) -> camera id, for the files that have a camera.
   std::map<std::string, uint32_t> camera_of;
   // Every visible regular file of the folder, sorted by name (images or not: the decoder
@@ -33,9 +43,16 @@ struct ImageCatalog {
 };
 
 // Lists DIR (not recursive; hidden files are ignored) and resolves the calibration. Errors
-// that stop the run (InputError): DIR missing or without files, no calibration found, an
-// unreadable calibration or camera map, several cameras without a map, a map naming an
-// unknown camera.
+// that stop the run (InputError): DIR missing or without files, an unreadable calibration or
+// camera map, several cameras without a map, a map naming an unknown camera, a camera map
+// without a calibration file, no calibration file and no decodable image.
+// With priors, files that do not decode are given camera 1, so that the features stage
+// skips them with its usual reason ("not an image file", ...), as with a calibration file.
 ImageCatalog BuildImageCatalog(const std::string& images_dir, const CalibrationInput& calibration);
+
+// The calibration_source of BuildImageCatalog(images_dir, calibration), for the report, from
+// the images the features stage accepted (re-reading their EXIF, not decoding them).
+std::string CalibrationSource(const std::string& images_dir, const CalibrationInput& calibration,
+                              const FeatureIndex& index);
 
 }  // namespace pgba

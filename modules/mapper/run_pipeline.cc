@@ -74,7 +74,9 @@ RunOutput RunPipeline(const std::string& images_dir, const CalibrationInput& cal
   {
     StageTimer timer(report, "features");
     features = ExtractFeatures(images_dir, calibration, out, options.features);
-    timer.Stop().update(FeatureExtractionRecord(features));
+    nlohmann::json& stage = timer.Stop();
+    stage.update(FeatureExtractionRecord(features));
+    stage["calibration_source"] = CalibrationSource(images_dir, calibration, features.index);
   }
   if (features.index.images.size() < 3)
     throw InputError(images_dir + ": " + std::to_string(features.index.images.size()) +

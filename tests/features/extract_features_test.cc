@@ -137,8 +137,11 @@ TEST_F(ExtractFeaturesTest, CameraMapAssignsCamerasAndSkipsUnmapped) {
 }
 
 TEST_F(ExtractFeaturesTest, FatalInputsAreInputErrors) {
-  // No calibration next to the images and none given.
-  EXPECT_THROW(ExtractFeatures(images_.string(), {}, ws_.string(), {}), InputError);
+  // No calibration next to the images and none given, and nothing to take a focal prior
+  // from (with images, the cameras are EXIF priors: exif_focal_test.cc).
+  fs::create_directories(root_ / "notes_only");
+  std::ofstream(root_ / "notes_only" / "notes.txt") << "not an image\n";
+  EXPECT_THROW(ExtractFeatures((root_ / "notes_only").string(), {}, ws_.string(), {}), InputError);
   WriteCameras(root_ / "set" / "cameras.txt", "1 PINHOLE 320 240 300 300 160 120\n");
   EXPECT_THROW(ExtractFeatures(images_.string(), {(root_ / "nope.txt").string(), ""}, ws_.string(), {}), InputError);
   // Empty folder, missing folder.
