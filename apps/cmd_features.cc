@@ -18,10 +18,7 @@ void RegisterFeatures(CLI::App& app) {
   auto args = std::make_shared<Args>();
   CLI::App* sub = app.add_subcommand("features", "SIFT features of a folder of images into the workspace");
   sub->add_option("--images", args->images, "folder of images")->required();
-  sub->add_option("--calib", args->calib.cameras_path,
-                  "COLMAP cameras.txt (default: cameras.txt in the image folder or its parent)");
-  sub->add_option("--camera-map", args->calib.camera_map_path,
-                  "lines IMAGE_NAME CAMERA_ID, needed when the calibration has several cameras");
+  AddCalibrationOptions(sub, &args->calib);
   sub->add_option("--out", args->out, "workspace directory")->required();
   sub->add_option("--max-features", args->options.sift.max_features, "max features per image")->capture_default_str();
   sub->add_flag("--root-sift,!--no-root-sift", args->options.sift.root_sift, "RootSIFT descriptors")

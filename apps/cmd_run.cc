@@ -30,10 +30,7 @@ void RegisterRun(CLI::App& app) {
   auto args = std::make_shared<Args>();
   CLI::App* sub = app.add_subcommand("run", "Images -> poses and points: every stage, with report.html");
   sub->add_option("--images", args->images, "Folder of photos")->required();
-  sub->add_option("--calib", args->calib.cameras_path,
-                  "COLMAP cameras.txt (default: cameras.txt in the image folder or its parent)");
-  sub->add_option("--camera-map", args->calib.camera_map_path,
-                  "Lines IMAGE_NAME CAMERA_ID, needed when the calibration has several cameras");
+  AddCalibrationOptions(sub, &args->calib);
   sub->add_option("--out", args->out, "Output folder (also the resumable workspace)")->required();
   sub->add_option("--config", args->config, "JSON config or a preset of configs/");
   sub->add_option("--gt", args->gt, "Ground-truth COLMAP text model to evaluate the result against");

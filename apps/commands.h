@@ -6,12 +6,17 @@
 #include <CLI/CLI.hpp>
 #include <functional>
 
+#include "features/image_catalog.h"
+
 namespace pgba::app {
 
 using CommandRunner = std::function<int()>;
 
 // Registers a subcommand; `run` is invoked if it was selected on the command line.
 void AddCommand(CLI::App& app, CLI::App* sub, CommandRunner run);
+
+// --calib and --camera-map of the commands that read images (features, run).
+void AddCalibrationOptions(CLI::App* sub, pgba::CalibrationInput* calib);
 
 void RegisterSynth(CLI::App& app);
 void RegisterEvaluate(CLI::App& app);

@@ -16,6 +16,14 @@ std::vector<std::pair<CLI::App*, CommandRunner>>& Runners() {
 
 void AddCommand(CLI::App& app, CLI::App* sub, CommandRunner run) { Runners().emplace_back(sub, std::move(run)); }
 
+void AddCalibrationOptions(CLI::App* sub, pgba::CalibrationInput* calib) {
+  sub->add_option("--calib", calib->cameras_path,
+                  "COLMAP cameras.txt or a .json calibration (default: cameras.txt in the image folder or its "
+                  "parent; none: EXIF focal priors)");
+  sub->add_option("--camera-map", calib->camera_map_path,
+                  "Lines IMAGE_NAME CAMERA_ID, needed when the calibration has several cameras");
+}
+
 }  // namespace pgba::app
 
 int main(int argc, char** argv) {

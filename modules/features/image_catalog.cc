@@ -9,6 +9,7 @@
 #include <tuple>
 
 #include "features/exif_focal.h"
+#include "pgba/io/calibration_json.h"
 #include "pgba/io/colmap_text.h"
 #include "pgba/util/error.h"
 #include "pgba/util/logging.h"
@@ -144,7 +145,14 @@ ImageCatalog BuildImageCatalog(const std::string& images_dir, const CalibrationI
     return catalog;
   }
   catalog.calibration_source = "file: " + catalog.cameras_path;
-  catalog.cameras = ReadColmapCameras(catalog.cameras_path);
+  std::map<std::string, uint32_t> json_camera_of;
+  if (fs::path(catalog.cameras_path).extension() == ".json") {
+    CalibrationFile file = ReadCalibrationJson(catalog.cameras_path);
+    catalog.cameras = std::move(file.cameras);
+    json_camera_of = std::move(file.camera_of);
+  } else {
+    catalog.cameras = ReadColmapCameras(catalog.cameras_path);
+  }
   if (catalog.cameras.empty()) ThrowInputError(catalog.cameras_path, 0, "calibration has no camera");
   for (const auto& [id, cam] : catalog.cameras) {
     const std::string problem = cam.Validate();
@@ -153,6 +161,8 @@ ImageCatalog BuildImageCatalog(const std::string& images_dir, const CalibrationI
 
   if (!calibration.camera_map_path.empty()) {
     catalog.camera_of = ReadCameraMap(calibration.camera_map_path, catalog.cameras);
+  } else if (!json_camera_of.empty()) {
+    catalog.camera_of = std::move(json_camera_of);
   } else if (catalog.cameras.size() == 1) {
     for (const std::string& f : catalog.files) catalog.camera_of[f] = catalog.cameras.begin()->first;
   } else {

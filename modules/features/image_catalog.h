@@ -1,9 +1,11 @@
 // Which files of an image folder are photos, and which calibrated camera each one uses.
 //
-// Calibration is a COLMAP cameras.txt. How images map to cameras:
+// Calibration is a COLMAP cameras.txt, or a .json file (pgba/io/calibration_json.h: the same
+// cameras, optionally with the image -> camera map inside). How images map to cameras:
 //   - one camera in the file: every image uses it;
 //   - several cameras: a camera map is required, a text file of lines "IMAGE_NAME CAMERA_ID"
-//     ('#' comments allowed); an image absent from the map is skipped with a warning.
+//     ('#' comments allowed) or the JSON file's "images"; an image absent from the map is
+//     skipped with a warning.
 // Without an explicit calibration path, DIR/cameras.txt and then DIR/../cameras.txt are
 // tried (the layout of the datasets in shared/datasets).
 // Without any calibration file, the cameras are priors, as COLMAP makes them: every image is

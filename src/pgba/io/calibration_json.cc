@@ -1,0 +1,80 @@
+#include "pgba/io/calibration_json.h"
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "pgba/util/error.h"
+
+namespace pgba {
+namespace {
+
+class Reader {
+ public:
+  explicit Reader(const std::string& path) : path_(path) {}
+  [[noreturn]] void Fail(const std::string& where, const std::string& problem) const {
+    ThrowInputError(path_, 0, where.empty() ? problem : where + ": " + problem);
+  }
+  const nlohmann::json& Field(const nlohmann::json& j, const char* key, const std::string& where) const {
+    if (!j.is_object() || !j.contains(key)) Fail(where, std::string("missing \"") + key + "\"");
+    return j.at(key);
+  }
+  int64_t Integer(const nlohmann::json& j, const std::string& where) const {
+    if (!j.is_number_integer()) Fail(where, "expected an integer, got " + j.dump());
+    return j.get<int64_t>();
+  }
+
+ private:
+  std::string path_;
+};
+
+}  // namespace
+
+CalibrationFile ReadCalibrationJson(const std::string& path) {
+  const Reader r(path);
+  std::ifstream in(path);
+  if (!in) r.Fail("", "cannot open the calibration file");
+  nlohmann::json doc;
+  try {
+    doc = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    r.Fail("", std::string("not valid JSON (") + e.what() + ")");
+  }
+  const nlohmann::json& cameras = r.Field(doc, "cameras", "");
+  if (!cameras.is_array() || cameras.empty()) r.Fail("cameras", "expected a non-empty array of cameras");
+  CalibrationFile out;
+  for (size_t k = 0; k < cameras.size(); ++k) {
+    const nlohmann::json& c = cameras[k];
+    const std::string where = "cameras[" + std::to_string(k) + "]";
+    Camera cam;
+    const int64_t id = r.Integer(r.Field(c, "camera_id", where), where + ".camera_id");
+    if (id < 0 || id > UINT32_MAX) r.Fail(where, "camera_id out of range");
+    cam.camera_id = static_cast<uint32_t>(id);
+    const nlohmann::json& model = r.Field(c, "model", where);
+    if (!model.is_string() || !ParseCameraModel(model.get<std::string>(), &cam.model))
+      r.Fail(where, "unknown camera model " + model.dump());
+    cam.width = static_cast<int>(r.Integer(r.Field(c, "width", where), where + ".width"));
+    cam.height = static_cast<int>(r.Integer(r.Field(c, "height", where), where + ".height"));
+    const nlohmann::json& params = r.Field(c, "params", where);
+    if (!params.is_array()) r.Fail(where, "\"params\" must be an array of numbers");
+    for (const nlohmann::json& p : params) {
+      if (!p.is_number()) r.Fail(where, "\"params\" must be an array of numbers, got " + p.dump());
+      cam.params.push_back(p.get<double>());
+    }
+    const std::string problem = cam.Validate();
+    if (!problem.empty()) r.Fail(where, problem);
+    if (!out.cameras.emplace(cam.camera_id, cam).second) r.Fail(where, "camera_id " + std::to_string(id) + " listed twice");
+  }
+  if (doc.contains("images")) {
+    const nlohmann::json& images = doc.at("images");
+    if (!images.is_object()) r.Fail("images", "expected an object {\"IMAGE_NAME\": CAMERA_ID, ...}");
+    for (const auto& [name, id_json] : images.items()) {
+      const int64_t id = r.Integer(id_json, "images." + name);
+      if (id < 0 || !out.cameras.count(static_cast<uint32_t>(id)))
+        r.Fail("images." + name, "camera " + std::to_string(id) + " is not in \"cameras\"");
+      out.camera_of[name] = static_cast<uint32_t>(id);
+    }
+  }
+  return out;
+}
+
+}  // namespace pgba
