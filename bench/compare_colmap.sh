@@ -13,15 +13,11 @@
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 shared=$(cd "$here/.." && pwd)/shared
-COLMAP=${COLMAP:-colmap}
 PGBA=${PGBA:-$here/build/bin/pgba}
-[[ -x "$PGBA" ]] || { echo "error: $PGBA not found; build pgba or set PGBA=" >&2; exit 2; }
-command -v "$COLMAP" >/dev/null || { echo "error: colmap not found (apt-get install colmap, or set COLMAP=)" >&2; exit 2; }
+source "$here/bench/lib.sh"
 if [[ $# -eq 0 ]]; then
   for d in "$shared"/datasets/*/; do [[ -d "$d/gt" ]] && set -- "$@" "${d%/}"; done
 fi
-now() { date +%s.%N; }
-secs() { python3 -c "print(f'{$2 - $1:.1f}')"; }
 cfg=()
 [[ -n "${CONFIG:-}" ]] && cfg=(--config "$CONFIG")
 
@@ -31,13 +27,10 @@ for ds in "$@"; do
   name=$(basename "$ds")
   [[ -d "$ds/images" && -f "$ds/cameras.txt" && -d "$ds/gt" ]] || { echo "error: $ds: needs images/, cameras.txt, gt/" >&2; exit 2; }
   tmp=$(mktemp -d "/tmp/pgba_vs_colmap_${name}_XXXX")
-  read -r model params < <(grep -v '^#' "$ds/cameras.txt" | awk 'NF {p=$5; for (i=6;i<=NF;i++) p=p","$i; print $2, p; exit}')
   t0=$(now)
-  "$COLMAP" feature_extractor --database_path "$tmp/colmap.db" --image_path "$ds/images" \
-    --ImageReader.single_camera 1 --ImageReader.camera_model "$model" --ImageReader.camera_params "$params" \
-    --SiftExtraction.use_gpu 0 >"$tmp/colmap.log" 2>&1
+  colmap_feature_extractor "$ds" "$tmp/colmap.db" "$tmp/colmap.log"
   t1=$(now)
-  "$COLMAP" exhaustive_matcher --database_path "$tmp/colmap.db" --SiftMatching.use_gpu 0 >>"$tmp/colmap.log" 2>&1
+  colmap_exhaustive_matcher "$tmp/colmap.db" "$tmp/colmap.log"
   t2=$(now)
   mkdir -p "$tmp/colmap_sparse"
   "$COLMAP" mapper --database_path "$tmp/colmap.db" --image_path "$ds/images" --output_path "$tmp/colmap_sparse" \
@@ -71,7 +64,7 @@ for ds in "$@"; do
   }
   eval_json "$best" "$tmp/colmap_eval.json"
   eval_json "$tmp/pgba/sparse" "$tmp/pgba_eval.json"
-  python3 - "$name" "$tmp" "$(secs "$t0" "$t1")" "$(secs "$t1" "$t2")" "$(secs "$t2" "$t3")" "$(secs "$t4" "$t5")" \
+  python3 - "$name" "$tmp" "$(elapsed "$t0" "$t1")" "$(elapsed "$t1" "$t2")" "$(elapsed "$t2" "$t3")" "$(elapsed "$t4" "$t5")" \
     "$(ls "$ds/images" | wc -l)" <<'PY'
 import json, sys
 name, tmp, cf, cm, cs, pt, n = sys.argv[1], sys.argv[2], *map(float, sys.argv[3:7]), int(sys.argv[7])

@@ -14,32 +14,18 @@
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 shared=$(cd "$here/.." && pwd)/shared
-COLMAP=${COLMAP:-colmap}
-if [[ -z "${PGBA:-}" ]]; then
-  PGBA=$(ls -t "$here"/build*/bin/pgba 2>/dev/null | head -1 || true)
-fi
-[[ -x "${PGBA:-}" ]] || { echo "error: pgba binary not found; build it or set PGBA=" >&2; exit 2; }
-command -v "$COLMAP" >/dev/null || { echo "error: colmap not found (apt-get install colmap, or set COLMAP=)" >&2; exit 2; }
+source "$here/bench/lib.sh"
 if [[ $# -eq 0 ]]; then set -- "$shared/datasets/fountain_p11" "$shared/datasets/temple_sparse_ring"; fi
-
-now() { date +%s.%N; }
-elapsed() { python3 -c "print(f'{$2 - $1:.2f}')"; }
 
 rows=()
 for ds in "$@"; do
   name=$(basename "$ds")
   [[ -d "$ds/images" && -f "$ds/cameras.txt" ]] || { echo "error: $ds: needs images/ and cameras.txt" >&2; exit 2; }
   tmp=$(mktemp -d "/tmp/pgba_bench_front_${name}_XXXX")
-  # One shared PINHOLE/SIMPLE_PINHOLE... camera: take the model and parameters from cameras.txt.
-  read -r model params < <(grep -v '^#' "$ds/cameras.txt" | awk 'NF {p=$5; for (i=6;i<=NF;i++) p=p","$i; print $2, p; exit}')
-
   t0=$(now)
-  "$COLMAP" feature_extractor --database_path "$tmp/colmap.db" --image_path "$ds/images" \
-    --ImageReader.single_camera 1 --ImageReader.camera_model "$model" --ImageReader.camera_params "$params" \
-    --SiftExtraction.use_gpu 0 >"$tmp/colmap_features.log" 2>&1
+  colmap_feature_extractor "$ds" "$tmp/colmap.db" "$tmp/colmap_features.log"
   t1=$(now)
-  "$COLMAP" exhaustive_matcher --database_path "$tmp/colmap.db" --SiftMatching.use_gpu 0 \
-    >"$tmp/colmap_match.log" 2>&1
+  colmap_exhaustive_matcher "$tmp/colmap.db" "$tmp/colmap_match.log"
   t2=$(now)
   "$PGBA" -v 0 features --images "$ds/images" --calib "$ds/cameras.txt" --out "$tmp/ws" >"$tmp/pgba_features.log" 2>&1
   t3=$(now)
