@@ -1,5 +1,6 @@
 #include "averaging/global_init.h"
 
+#include <array>
 #include <set>
 
 #include "averaging/connectivity.h"
@@ -92,13 +93,33 @@ GlobalInitResult RunGlobalInitialisation(const Reconstruction& tracks, const std
   if (stats.pairs_invalid || stats.triplets_invalid)
     PGBA_LOG_WARN << "ignoring " << stats.pairs_invalid << " invalid pairs and " << stats.triplets_invalid
                   << " invalid triplets (repeated images, non-finite values or no baseline)";
+  // Local poses of the triplets whose relative rotations were corrupted as measurements only
+  // (outlier_injection.h), by image ids.
+  std::map<std::array<uint32_t, 3>, std::array<Pose, 3>> measured_poses;
   if (options.outliers.fraction > 0.0) {
-    const OutlierInjectionResult injected = InjectRotationOutliers(options.outliers, &pairs, &triplets);
+    const bool local = options.outliers.triplet_corruption == TripletCorruption::kLocalPoses;
+    std::vector<Triplet> corrupted;
+    if (!local) corrupted = triplets;
+    const OutlierInjectionResult injected =
+        InjectRotationOutliers(options.outliers, &pairs, local ? &triplets : &corrupted);
+    if (!local)
+      for (int t : injected.triplets) measured_poses[corrupted[t].image_ids] = corrupted[t].local_poses;
     stats.pairs_corrupted = static_cast<int>(injected.pairs.size());
     stats.triplets_corrupted = static_cast<int>(injected.triplets.size());
     PGBA_LOG_INFO << "outlier injection: " << stats.pairs_corrupted << " pairs and " << stats.triplets_corrupted
-                  << " triplets given random rotations";
+                  << (local ? " triplets (local poses)" : " triplets (their relative rotations)")
+                  << " given random rotations";
   }
+  // The triplets as rotation measurements: with the corrupted relative rotations in place.
+  auto as_measured = [&](const std::vector<Triplet>& in) {
+    if (measured_poses.empty()) return in;
+    std::vector<Triplet> out = in;
+    for (Triplet& t : out) {
+      auto it = measured_poses.find(t.image_ids);
+      if (it != measured_poses.end()) t.local_poses = it->second;
+    }
+    return out;
+  };
 
   auto finish = [&](bool ok, const std::string& message) {
     result.success = ok;
@@ -134,15 +155,16 @@ GlobalInitResult RunGlobalInitialisation(const Reconstruction& tracks, const std
     triplets_only.observations.use_pairs = false;
     triplets_only.observations.use_triplets = true;
     std::map<uint32_t, Eigen::Matrix3d> from_triplets;
-    const bool ok = AverageRotations(CollectRelativeRotations({}, triplets, triplets_only.observations),
+    const std::vector<Triplet> measured = as_measured(triplets);
+    const bool ok = AverageRotations(CollectRelativeRotations({}, measured, triplets_only.observations),
                                      triplets_only, &from_triplets);
-    pairs = PairsConsistentWithTriplets(pairs, triplets, options.pair_validation, ok ? &from_triplets : nullptr,
+    pairs = PairsConsistentWithTriplets(pairs, measured, options.pair_validation, ok ? &from_triplets : nullptr,
                                         &stats.pairs_inconsistent);
     PGBA_LOG_INFO << "pair validation: " << stats.pairs_inconsistent << " pairs disagree with the triplets";
   }
   std::map<uint32_t, Eigen::Matrix3d> rotations;
   const std::vector<RelativeRotation> observations =
-      CollectRelativeRotations(PairsWithin(pairs, images), triplets, options.rotation.observations);
+      CollectRelativeRotations(PairsWithin(pairs, images), as_measured(triplets), options.rotation.observations);
   {
     // Without the triplets' rotations the pairs alone may not connect the component.
     std::vector<TwoViewGeometry> graph;
@@ -163,6 +185,18 @@ GlobalInitResult RunGlobalInitialisation(const Reconstruction& tracks, const std
   const bool rotations_ok = AverageRotations(observations, options.rotation, &rotations, &stats.rotation);
   stats.seconds_rotation = timer.Seconds();
   if (!rotations_ok) return finish(false, "rotation averaging failed: " + stats.rotation.message);
+  if (!stats.rotation.images_without_inliers.empty()) {
+    // Images whose every observation is an outlier have no rotation, nor their triplets.
+    std::vector<int> rotated;
+    for (int t = 0; t < static_cast<int>(triplets.size()); ++t)
+      if (rotations.count(triplets[t].image_ids[0]) && rotations.count(triplets[t].image_ids[1]) &&
+          rotations.count(triplets[t].image_ids[2]))
+        rotated.push_back(t);
+    stats.triplets_outside_component += static_cast<int>(triplets.size() - rotated.size());
+    triplets = Select(triplets, rotated);
+    stats.triplets_outside_component += KeepLargestComponent(&triplets);
+    if (triplets.empty()) return finish(false, "no triplet has inlier rotations");
+  }
 
   // 4. Triplets inconsistent with the averaged rotations.
   if (options.max_triplet_rotation_error_deg > 0.0) {
@@ -241,6 +275,9 @@ nlohmann::json GlobalInitReport(const GlobalInitResult& result) {
   j["rotation"] = {{"observations", s.rotation.num_observations},
                    {"seconds", s.rotation.seconds},
                    {"inliers", s.rotation.num_inliers},
+                   {"outliers", s.rotation.num_outliers},
+                   {"tree_edges_validated", s.rotation.tree_validated},
+                   {"images_without_inliers", s.rotation.images_without_inliers.size()},
                    {"l1_iterations", s.rotation.l1_iterations},
                    {"irls_iterations", s.rotation.irls_iterations},
                    {"converged", s.rotation.converged},

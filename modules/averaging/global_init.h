@@ -4,11 +4,14 @@
 //
 //   0. unusable pairs and triplets (repeated images, non-finite values, no baseline) are
 //      ignored and counted;
-//   1. optional outlier injection (sensitivity experiment);
+//   1. optional outlier injection (sensitivity experiment, outlier_injection.h: by default the
+//      triplets' relative rotations are corrupted as measurements, their local poses kept);
 //   2. keep the largest component of the triplet graph (triplets sharing an image pair);
 //      images outside it are dropped and named;
 //   3. pairs disagreeing with the triplets that contain them are dropped (pair_validation.h),
-//      then rotation averaging over the pairs inside the component and the triplets;
+//      then rotation averaging over the pairs inside the component and the triplets; relative
+//      rotations left as outliers by it are excluded as edges (rotation_averaging.h), and only
+//      images with no inlier observation lose their rotation (and their triplets);
 //   4. triplets whose local rotations disagree with the averaged ones are dropped (and the
 //      component recomputed);
 //   5. translation averaging;

@@ -44,6 +44,21 @@ void from_json(const nlohmann::json& j, OutlierTarget& target) {
         302, "unknown outlier target '" + s + "' (expected pairs, triplets or both)", &j);
 }
 
+void to_json(nlohmann::json& j, const TripletCorruption& mode) {
+  j = mode == TripletCorruption::kLocalPoses ? "local_poses" : "relative_rotations";
+}
+
+void from_json(const nlohmann::json& j, TripletCorruption& mode) {
+  const std::string s = j.is_string() ? j.get<std::string>() : j.dump();
+  if (s == "relative_rotations")
+    mode = TripletCorruption::kRelativeRotations;
+  else if (s == "local_poses")
+    mode = TripletCorruption::kLocalPoses;
+  else
+    throw nlohmann::json::type_error::create(
+        302, "unknown triplet corruption '" + s + "' (expected relative_rotations or local_poses)", &j);
+}
+
 OutlierInjectionResult InjectRotationOutliers(const OutlierInjectionOptions& options,
                                               std::vector<TwoViewGeometry>* pairs, std::vector<Triplet>* triplets) {
   if (!(options.fraction >= 0.0 && options.fraction <= 1.0))

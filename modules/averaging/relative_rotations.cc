@@ -9,7 +9,8 @@ std::vector<RelativeRotation> CollectRelativeRotations(const std::vector<TwoView
                                                        const RelativeRotationOptions& options) {
   std::vector<RelativeRotation> out;
   if (options.use_pairs) {
-    for (const TwoViewGeometry& p : pairs) {
+    for (size_t k = 0; k < pairs.size(); ++k) {
+      const TwoViewGeometry& p = pairs[k];
       if (p.image_id1 == p.image_id2) continue;
       RelativeRotation r;
       r.image_id1 = p.image_id1;
@@ -17,11 +18,13 @@ std::vector<RelativeRotation> CollectRelativeRotations(const std::vector<TwoView
       r.R_21 = p.R_21;
       r.weight = options.pair_weight;
       r.support = p.num_inliers;
+      r.source = static_cast<int>(k);
       out.push_back(r);
     }
   }
   if (options.use_triplets) {
-    for (const Triplet& t : triplets) {
+    for (size_t k = 0; k < triplets.size(); ++k) {
+      const Triplet& t = triplets[k];
       if (!HasDistinctImages(t)) continue;
       for (int a = 0; a < 3; ++a)
         for (int b = a + 1; b < 3; ++b) {
@@ -31,6 +34,7 @@ std::vector<RelativeRotation> CollectRelativeRotations(const std::vector<TwoView
           r.R_21 = t.local_poses[b].R() * t.local_poses[a].R().transpose();
           r.weight = options.triplet_weight * 2.0 / 3.0;
           r.support = static_cast<double>(t.track_ids.size());
+          r.source = static_cast<int>(pairs.size() + k);
           out.push_back(r);
         }
     }

@@ -21,6 +21,11 @@ struct RelativeRotation {
   // Evidence for the maximum-spanning-tree initialisation: inliers of a pair, tracks of a
   // triplet.
   double support = 0.0;
+  // Which measurement it comes from (a pair, a triplet; CollectRelativeRotations numbers
+  // them); observations sharing a source are not independent evidence for each other (a
+  // triplet's three rotations close their cycle whether or not they are right). -1: a
+  // source of its own.
+  int source = -1;
 };
 
 struct RelativeRotationOptions {
@@ -39,7 +44,7 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(RelativeRotationOptions, use_pai
                                                 triplet_weight)
 
 // Relative rotations from the pairs then the triplets (input order; pairs or triplets with
-// repeated images are skipped).
+// repeated images are skipped). Sources: pair p is p, triplet t is pairs.size() + t.
 std::vector<RelativeRotation> CollectRelativeRotations(const std::vector<TwoViewGeometry>& pairs,
                                                        const std::vector<Triplet>& triplets,
                                                        const RelativeRotationOptions& options);

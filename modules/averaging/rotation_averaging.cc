@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <queue>
 
 #include "averaging/connectivity.h"
@@ -24,6 +25,7 @@ struct Graph {
   std::vector<int> i, j;      // per observation
   std::vector<Eigen::Matrix3d> R_ij;
   std::vector<double> prior, support;
+  std::vector<int> source;  // -1: its own
 };
 
 Graph BuildGraph(const std::vector<RelativeRotation>& observations) {
@@ -44,8 +46,79 @@ Graph BuildGraph(const std::vector<RelativeRotation>& observations) {
     g.R_ij.push_back(o.R_21);
     g.prior.push_back(o.weight);
     g.support.push_back(std::max(o.support, 0.0));
+    g.source.push_back(o.source);
   }
   return g;
+}
+
+// The observations e whose indices are listed, on the nodes they touch (renumbered);
+// `node_of` receives the old -> new node map (-1: dropped).
+Graph Subgraph(const Graph& g, const std::vector<int>& kept_edges, const std::vector<bool>& kept_nodes,
+               std::vector<int>* node_of) {
+  Graph s;
+  node_of->assign(g.ids.size(), -1);
+  for (size_t n = 0; n < g.ids.size(); ++n)
+    if (kept_nodes[n]) {
+      (*node_of)[n] = static_cast<int>(s.ids.size());
+      s.ids.push_back(g.ids[n]);
+    }
+  for (int e : kept_edges) {
+    if ((*node_of)[g.i[e]] < 0 || (*node_of)[g.j[e]] < 0) continue;
+    s.i.push_back((*node_of)[g.i[e]]);
+    s.j.push_back((*node_of)[g.j[e]]);
+    s.R_ij.push_back(g.R_ij[e]);
+    s.prior.push_back(g.prior[e]);
+    s.support.push_back(g.support[e]);
+    s.source.push_back(g.source[e]);
+  }
+  return s;
+}
+
+bool Independent(const Graph& g, int e, int f) { return g.source[e] < 0 || g.source[e] != g.source[f]; }
+
+// R_ij of observation e oriented from node a to node b (R_b = R R_a).
+Eigen::Matrix3d Oriented(const Graph& g, int e, int a) {
+  return g.i[e] == a ? g.R_ij[e] : Eigen::Matrix3d(g.R_ij[e].transpose());
+}
+
+// Stage 1's validation: observation e = (i, j) is validated if an observation of another
+// source of the same image pair agrees with it, or two observations of other sources close
+// the triangle (i, j, k) with it, within `tolerance` (radians).
+std::vector<bool> ValidatedObservations(const Graph& g, double tolerance) {
+  const int n = static_cast<int>(g.ids.size());
+  std::vector<std::map<int, std::vector<int>>> adjacent(n);  // node -> neighbour -> observations
+  for (size_t e = 0; e < g.i.size(); ++e) {
+    adjacent[g.i[e]][g.j[e]].push_back(static_cast<int>(e));
+    adjacent[g.j[e]][g.i[e]].push_back(static_cast<int>(e));
+  }
+  std::vector<bool> validated(g.i.size(), false);
+  tbb::parallel_for(size_t(0), g.i.size(), [&](size_t k) {
+    const int e = static_cast<int>(k);
+    const int a = g.i[e], b = g.j[e];
+    const Eigen::Matrix3d& R_ab = g.R_ij[e];
+    for (int f : adjacent[a].at(b))
+      if (f != e && Independent(g, e, f) && LogSO3(Oriented(g, f, a).transpose() * R_ab).norm() < tolerance) {
+        validated[e] = true;
+        return;
+      }
+    // Triangles a -> b -> c -> a: R_ca R_bc R_ab ~ I.
+    const auto& from_a = adjacent[a];
+    for (const auto& [c, to_c] : adjacent[b]) {
+      if (c == a) continue;
+      auto back = from_a.find(c);
+      if (back == from_a.end()) continue;
+      for (int f : to_c) {
+        if (!Independent(g, e, f)) continue;
+        const Eigen::Matrix3d R_ac = Oriented(g, f, b) * R_ab;
+        for (int h : back->second)
+          if (Independent(g, e, h) && LogSO3(Oriented(g, h, a).transpose() * R_ac).norm() < tolerance) {
+            validated[e] = true;
+            return;
+          }
+      }
+    }
+  });
+  return validated;
 }
 
 // Node with the largest total support (ties: smallest id).
@@ -58,14 +131,21 @@ int GaugeNode(const Graph& g) {
   return static_cast<int>(std::max_element(total.begin(), total.end()) - total.begin());
 }
 
-// Stage 1: chain the observations of a maximum spanning tree (weight = support) from the
-// gauge node. Several observations of one image pair: the best supported one is used.
-std::vector<Eigen::Matrix3d> SpanningTreeInit(const Graph& g, int root) {
+// Stage 1: chain the observations of a maximum spanning tree from the gauge node, the
+// validated observations ranked above every unvalidated one, then by support. Several
+// observations of one image pair: the best ranked one is used.
+std::vector<Eigen::Matrix3d> SpanningTreeInit(const Graph& g, int root, double tolerance, int* tree_validated) {
   const int n = static_cast<int>(g.ids.size());
+  const std::vector<bool> validated = ValidatedObservations(g, tolerance);
+  double top = 0.0;
+  for (size_t e = 0; e < g.i.size(); ++e) top = std::max(top, g.support[e] + 1e-9 * g.prior[e]);
   std::vector<WeightedEdge> edges(g.i.size());
-  for (size_t e = 0; e < g.i.size(); ++e) edges[e] = {g.i[e], g.j[e], g.support[e] + 1e-9 * g.prior[e]};
+  for (size_t e = 0; e < g.i.size(); ++e)
+    edges[e] = {g.i[e], g.j[e], g.support[e] + 1e-9 * g.prior[e] + (validated[e] ? 2.0 * top + 1.0 : 0.0)};
   std::vector<std::vector<int>> adjacent(n);
+  *tree_validated = 0;
   for (int e : MaximumSpanningForest(n, edges)) {
+    *tree_validated += validated[e];
     adjacent[g.i[e]].push_back(e);
     adjacent[g.j[e]].push_back(e);
   }
@@ -142,6 +222,8 @@ void ValidateRotationAveragingOptions(const RotationAveragingOptions& o) {
     bad("iteration counts must be >= 0 (l1_inner_iterations >= 1)");
   if (!(o.observations.pair_weight >= 0) || !(o.observations.triplet_weight >= 0))
     bad("observation weights must be >= 0");
+  if (!(o.init_consistency_deg > 0) || !(o.inlier_threshold_deg > 0))
+    bad("init_consistency_deg and inlier_threshold_deg must be > 0");
 }
 
 double RelativeRotationResidualDeg(const RelativeRotation& o, const std::map<uint32_t, Eigen::Matrix3d>& rotations) {
@@ -176,7 +258,7 @@ bool AverageRotations(const std::vector<RelativeRotation>& observations, const R
   const int gauge = GaugeNode(g);
   std::vector<Eigen::Matrix3d> R;
   if (options.spanning_tree_init) {
-    R = SpanningTreeInit(g, gauge);
+    R = SpanningTreeInit(g, gauge, options.init_consistency_deg * kDeg, &summary.tree_validated);
   } else {
     for (uint32_t id : g.ids) {
       auto it = rotations->find(id);
@@ -195,34 +277,78 @@ bool AverageRotations(const std::vector<RelativeRotation>& observations, const R
     if (ApplyUpdate(x, &R) < options.l1_step_tolerance_deg * kDeg) break;
   }
   // Stage 3: IRLS with the robust loss.
-  std::vector<double> w(g.i.size());
-  for (int it = 0; it < options.max_irls_iterations; ++it) {
-    const Eigen::MatrixXd e = Residuals(g, R);
-    for (size_t k = 0; k < g.i.size(); ++k) w[k] = g.prior[k] * IrlsWeight(options.loss, e.row(k).norm(), scale);
-    if (!SolveDifferenceSystem(n, Edges(g, w), e, gauge, &x)) return finish(false, "singular IRLS system");
-    ++summary.irls_iterations;
-    summary.last_step_deg = ApplyUpdate(x, &R) / kDeg;
-    if (summary.last_step_deg < options.step_tolerance_deg) {
-      summary.converged = true;
-      break;
+  auto irls = [&](const Graph& graph, int root, std::vector<Eigen::Matrix3d>* rot) {
+    std::vector<double> w(graph.i.size());
+    summary.converged = false;
+    for (int it = 0; it < options.max_irls_iterations; ++it) {
+      const Eigen::MatrixXd e = Residuals(graph, *rot);
+      for (size_t k = 0; k < graph.i.size(); ++k)
+        w[k] = graph.prior[k] * IrlsWeight(options.loss, e.row(k).norm(), scale);
+      if (!SolveDifferenceSystem(static_cast<int>(graph.ids.size()), Edges(graph, w), e, root, &x)) return false;
+      ++summary.irls_iterations;
+      summary.last_step_deg = ApplyUpdate(x, rot) / kDeg;
+      if (summary.last_step_deg < options.step_tolerance_deg) {
+        summary.converged = true;
+        break;
+      }
     }
-  }
+    return true;
+  };
+  if (!irls(g, gauge, &R)) return finish(false, "singular IRLS system");
 
-  // Residual statistics.
-  const Eigen::MatrixXd e = Residuals(g, R);
+  // Residuals; stage 4: outlier observations excluded, IRLS again on the largest component of
+  // the inliers.
   std::vector<double> deg(g.i.size());
-  for (size_t k = 0; k < g.i.size(); ++k) {
-    deg[k] = e.row(k).norm() / kDeg;
-    if (deg[k] < options.inlier_threshold_deg) ++summary.num_inliers;
+  {
+    const Eigen::MatrixXd e = Residuals(g, R);
+    for (size_t k = 0; k < g.i.size(); ++k) deg[k] = e.row(k).norm() / kDeg;
+  }
+  std::vector<int> inliers;
+  for (size_t k = 0; k < g.i.size(); ++k)
+    if (deg[k] <= options.inlier_threshold_deg) inliers.push_back(static_cast<int>(k));
+  summary.num_inliers = static_cast<int>(inliers.size());
+  summary.num_outliers = summary.num_observations - summary.num_inliers;
+  const Graph* final_graph = &g;
+  Graph inlier_graph;
+  if (options.exclude_outliers && summary.num_outliers > 0) {
+    UnionFind in(n);
+    for (int k : inliers) in.Union(g.i[k], g.j[k]);
+    int root = 0;
+    for (int k = 0; k < n; ++k)
+      if (in.SizeOf(k) > in.SizeOf(root)) root = k;
+    std::vector<bool> keep(n);
+    for (int k = 0; k < n; ++k) {
+      keep[k] = in.Find(k) == in.Find(root);
+      if (!keep[k]) summary.images_without_inliers.push_back(g.ids[k]);
+    }
+    std::vector<int> node_of;
+    inlier_graph = Subgraph(g, inliers, keep, &node_of);
+    std::vector<Eigen::Matrix3d> R_in;
+    for (int k = 0; k < n; ++k)
+      if (keep[k]) R_in.push_back(R[k]);
+    const int inlier_gauge = keep[gauge] ? node_of[gauge] : GaugeNode(inlier_graph);
+    if (!inlier_graph.i.empty() && !irls(inlier_graph, inlier_gauge, &R_in))
+      return finish(false, "singular IRLS system on the inliers");
+    R = std::move(R_in);
+    final_graph = &inlier_graph;
+    const Eigen::MatrixXd e = Residuals(inlier_graph, R);
+    deg.resize(inlier_graph.i.size());
+    for (size_t k = 0; k < inlier_graph.i.size(); ++k) deg[k] = e.row(k).norm() / kDeg;
+    if (!summary.images_without_inliers.empty())
+      PGBA_LOG_WARN << "rotation averaging: " << summary.images_without_inliers.size()
+                    << " images have no inlier observation connecting them to the others";
   }
   if (!deg.empty()) {
     std::nth_element(deg.begin(), deg.begin() + deg.size() / 2, deg.end());
     summary.residual_median_deg = deg[deg.size() / 2];
   }
-  for (int k = 0; k < n; ++k) (*rotations)[g.ids[k]] = R[k];
-  PGBA_LOG_INFO << "rotation averaging: " << n << " images, " << summary.num_observations << " observations, "
+  for (uint32_t id : summary.images_without_inliers) rotations->erase(id);
+  for (size_t k = 0; k < final_graph->ids.size(); ++k) (*rotations)[final_graph->ids[k]] = R[k];
+  PGBA_LOG_INFO << "rotation averaging: " << final_graph->ids.size() << " images, " << summary.num_observations
+                << " observations (" << summary.tree_validated << " of the tree's edges validated), "
                 << summary.l1_iterations << " L1 + " << summary.irls_iterations << " IRLS iterations, "
-                << summary.num_inliers << " inliers, median residual " << summary.residual_median_deg << " deg";
+                << summary.num_outliers << " outliers" << (options.exclude_outliers ? " excluded" : "")
+                << ", median residual " << summary.residual_median_deg << " deg";
   return finish(true, summary.converged ? "converged" : "iteration limit reached");
 }
 

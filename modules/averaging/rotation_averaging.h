@@ -7,13 +7,22 @@
 //     e_ij = Log(R_j^T R_ij R_i),   and to first order   e_ij(x) = e_ij - (x_j - x_i),
 // so every linearised step is a weighted difference system (difference_system.h) solved for
 // the three components of x at once. Stages:
-//   1. initialisation: chain the observations along a maximum spanning tree weighted by
-//      their support (inliers / tracks): the most reliable edges define the start;
+//   1. initialisation: chain the observations along a maximum spanning tree. An observation
+//      is validated when an independent one (another source: a different pair or triplet)
+//      of the same image pair agrees with it, or two independent ones close a triangle with
+//      it, within init_consistency_deg. The tree takes validated observations first, best
+//      supported (inliers / tracks) first, and unvalidated ones only to connect what the
+//      validated ones leave apart: ranked by support alone, a corrupted pair with many
+//      inliers would enter the tree and mis-rotate the whole subtree behind it;
 //   2. optional L1 stage (Chatterjee's L1RA): a few relinearisations, each solving the
 //      linearised L1 problem sum |e_ij(x)| by inner IRLS; it moves the estimate into the
 //      basin of the redescending loss even when the tree contains outlier edges;
 //   3. IRLS with a robust loss (Geman-McClure, sigma 5 deg by default; l1/2 available):
-//      reweight, solve, update, until the largest update is below the step tolerance.
+//      reweight, solve, update, until the largest update is below the step tolerance;
+//   4. outlier edges: observations whose residual exceeds inlier_threshold_deg are excluded
+//      and IRLS is run again on the rest, from the current estimate. Edges are excluded, not
+//      images: an image keeps its rotation as long as inlier observations connect it to the
+//      largest inlier component.
 // Gauge: the rotation of the image with the largest total support stays fixed.
 #pragma once
 
@@ -35,6 +44,8 @@ struct RotationAveragingOptions {
   // Start from the spanning-tree chaining; false: start from the rotations passed in (every
   // image of the observations must have one).
   bool spanning_tree_init = true;
+  // Agreement (degrees) that validates an observation for the spanning tree (stage 1).
+  double init_consistency_deg = 3.0;
   // L1 stage: relinearisations (0 disables), inner IRLS-L1 solves per relinearisation, and
   // its stopping tolerance on the largest update (degrees).
   int max_l1_iterations = 5;
@@ -47,13 +58,15 @@ struct RotationAveragingOptions {
   // tolerance (degrees).
   int max_irls_iterations = 100;
   double step_tolerance_deg = 1e-5;
-  // Observations with a final residual above this count as outliers in the summary.
+  // Observations with a residual above this after IRLS are outliers: excluded (stage 4)
+  // if exclude_outliers, otherwise only counted in the summary.
   double inlier_threshold_deg = 5.0;
+  bool exclude_outliers = true;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(RotationAveragingOptions, observations, spanning_tree_init,
-                                                max_l1_iterations, l1_inner_iterations, l1_step_tolerance_deg,
+                                                init_consistency_deg, max_l1_iterations, l1_inner_iterations, l1_step_tolerance_deg,
                                                 loss, loss_scale_deg, max_irls_iterations, step_tolerance_deg,
-                                                inlier_threshold_deg)
+                                                inlier_threshold_deg, exclude_outliers)
 
 struct RotationAveragingSummary {
   bool success = false;
@@ -65,6 +78,11 @@ struct RotationAveragingSummary {
   double last_step_deg = 0.0;
   bool converged = false;  // IRLS step tolerance reached
   int num_inliers = 0;     // observations with residual below inlier_threshold_deg
+  int num_outliers = 0;    // observations above it (excluded if exclude_outliers)
+  int tree_validated = 0;  // spanning-tree edges validated by an independent observation
+  // Images without a rotation: no inlier observation connects them to the largest inlier
+  // component (stage 4).
+  std::vector<uint32_t> images_without_inliers;
   double residual_median_deg = 0.0;
   double seconds = 0.0;
 };
@@ -73,7 +91,9 @@ struct RotationAveragingSummary {
 // iteration counts).
 void ValidateRotationAveragingOptions(const RotationAveragingOptions& options);
 
-// Averages the relative rotations into one rotation per image appearing in them. The
+// Averages the relative rotations into one rotation per image appearing in them (with
+// exclude_outliers: per image of the largest component of the inlier observations; the
+// others are listed in summary->images_without_inliers and erased from `rotations`). The
 // observation graph must be connected (restrict it to a component first, connectivity.h);
 // otherwise, or if a solve fails, returns false with summary->message set and leaves
 // `rotations` untouched. With spanning_tree_init = false, `rotations` holds the start.

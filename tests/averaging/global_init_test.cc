@@ -62,42 +62,60 @@ TEST_P(GlobalInitLayouts, RegistersEverythingAccurately) {
 
 INSTANTIATE_TEST_SUITE_P(All, GlobalInitLayouts, ::testing::Values(Layout::kOrbit, Layout::kAerial, Layout::kVideo));
 
-class GlobalInitOutliers : public ::testing::TestWithParam<double> {};
+class GlobalInitOutliers : public ::testing::TestWithParam<std::tuple<double, TripletCorruption>> {};
 
 // 10% / 20% of the pairs' and triplets' rotations replaced by random ones (the sensitivity
-// experiment's flag): median rotation error < 0.5 deg on the orbit, the corrupted triplets
-// are identified and dropped, every image stays registered.
+// experiment's flag): median rotation error < 0.5 deg on the orbit and every image stays
+// registered. Triplets corrupted as rotation measurements (the default) keep their local
+// geometry: every triplet is kept and the corrupted relative rotations (two per triplet) are
+// excluded as outlier edges. Triplets whose local poses are corrupted are identified and
+// dropped.
 TEST_P(GlobalInitOutliers, Orbit) {
+  const auto [fraction, corruption] = GetParam();
   const test::GroundTruth gt = test::MakeLayout(Layout::kOrbit, 31);
   const test::RelativeMotions m = test::MakeRelativeMotions(gt, test::NoiseModel(), 32);
   GlobalInitOptions options;
-  options.outliers.fraction = GetParam();
+  options.outliers.fraction = fraction;
   options.outliers.seed = 33;
+  options.outliers.triplet_corruption = corruption;
   const GlobalInitResult r = RunGlobalInitialisation(test::MakeTracks(gt), m.pairs, m.triplets, options);
   ASSERT_TRUE(r.success) << r.message;
-  EXPECT_EQ(r.stats.triplets_corrupted, static_cast<int>(std::lround(GetParam() * m.triplets.size())));
-  EXPECT_EQ(r.stats.pairs_corrupted, static_cast<int>(std::lround(GetParam() * m.pairs.size())));
-  EXPECT_GE(r.stats.triplets_rotation_outliers, r.stats.triplets_corrupted * 9 / 10);
-  EXPECT_LE(r.stats.triplets_rotation_outliers, r.stats.triplets_corrupted + 2);
+  EXPECT_EQ(r.stats.triplets_corrupted, static_cast<int>(std::lround(fraction * m.triplets.size())));
+  EXPECT_EQ(r.stats.pairs_corrupted, static_cast<int>(std::lround(fraction * m.pairs.size())));
+  if (corruption == TripletCorruption::kLocalPoses) {
+    EXPECT_GE(r.stats.triplets_rotation_outliers, r.stats.triplets_corrupted * 9 / 10);
+    EXPECT_LE(r.stats.triplets_rotation_outliers, r.stats.triplets_corrupted + 2);
+  } else {
+    EXPECT_EQ(r.stats.triplets_rotation_outliers, 0);
+    EXPECT_EQ(r.triplets.size(), m.triplets.size());
+    EXPECT_GE(r.stats.rotation.num_outliers, 2 * r.stats.triplets_corrupted);
+    EXPECT_LE(r.stats.rotation.num_outliers, 2 * r.stats.triplets_corrupted + r.stats.pairs_corrupted);
+    EXPECT_TRUE(r.stats.rotation.images_without_inliers.empty());
+  }
   EXPECT_EQ(r.poses.size(), gt.poses.size());
   const Accuracy a = Measure(r, gt);
-  std::cout << "orbit, " << GetParam() << " outliers: rotation error median " << a.rot_median << " max " << a.rot_max
+  std::cout << "orbit, " << fraction << " outliers: rotation error median " << a.rot_median << " max " << a.rot_max
             << " deg, centre median " << a.centre_median << "; " << r.stats.triplets_rotation_outliers
-            << " triplets dropped of " << r.stats.triplets_corrupted << " corrupted\n";
+            << " triplets dropped of " << r.stats.triplets_corrupted << " corrupted, "
+            << r.stats.rotation.num_outliers << " relative rotations excluded\n";
   EXPECT_LT(a.rot_median, 0.5);
   EXPECT_LT(a.centre_median, 0.01);
 }
 
-INSTANTIATE_TEST_SUITE_P(All, GlobalInitOutliers, ::testing::Values(0.1, 0.2));
+INSTANTIATE_TEST_SUITE_P(All, GlobalInitOutliers,
+                         ::testing::Combine(::testing::Values(0.1, 0.2),
+                                            ::testing::Values(TripletCorruption::kRelativeRotations,
+                                                              TripletCorruption::kLocalPoses)));
 
 // With triplet filtering disabled (the sensitivity experiment hands outliers to the global
-// BA), the corrupted triplets are kept.
+// BA), the triplets with corrupted local poses are kept.
 TEST(GlobalInit, FilteringCanBeDisabled) {
   const test::GroundTruth gt = test::MakeLayout(Layout::kVideo, 5);
   const test::RelativeMotions m = test::MakeRelativeMotions(gt, test::NoiseModel(), 6);
   GlobalInitOptions options;
   options.outliers.fraction = 0.1;
   options.outliers.target = OutlierTarget::kTriplets;
+  options.outliers.triplet_corruption = TripletCorruption::kLocalPoses;
   options.max_triplet_rotation_error_deg = 0.0;
   options.max_triplet_centre_error = 0.0;
   const GlobalInitResult r = RunGlobalInitialisation(test::MakeTracks(gt), m.pairs, m.triplets, options);
@@ -234,6 +252,13 @@ TEST(GlobalInit, OptionsFromJson) {
   EXPECT_THROW(nlohmann::json::parse(R"({"rotation": {"loss": "cauchy"}})").get<GlobalInitOptions>(),
                nlohmann::json::exception);
   EXPECT_THROW(nlohmann::json::parse(R"({"outliers": {"target": "all"}})").get<GlobalInitOptions>(),
+               nlohmann::json::exception);
+  EXPECT_EQ(o.outliers.triplet_corruption, TripletCorruption::kRelativeRotations);
+  EXPECT_EQ(nlohmann::json::parse(R"({"outliers": {"triplet_corruption": "local_poses"}})")
+                .get<GlobalInitOptions>()
+                .outliers.triplet_corruption,
+            TripletCorruption::kLocalPoses);
+  EXPECT_THROW(nlohmann::json::parse(R"({"outliers": {"triplet_corruption": "poses"}})").get<GlobalInitOptions>(),
                nlohmann::json::exception);
   // Through the config reader: InputError naming the file.
   GlobalInitOptions read;
