@@ -74,6 +74,7 @@ GlobalInitResult RunGlobalInitialisation(const Reconstruction& tracks, const std
                                          const std::vector<Triplet>& triplets_in, const GlobalInitOptions& options) {
   ValidateRotationAveragingOptions(options.rotation);
   ValidateTranslationAveragingOptions(options.translation);
+  ValidateTrackPositioningOptions(options.track_positioning);
   CheckImageIds(tracks, pairs_in, triplets_in);
   Timer total;
   GlobalInitResult result;
@@ -226,6 +227,13 @@ GlobalInitResult RunGlobalInitialisation(const Reconstruction& tracks, const std
   if (!centres_ok) return finish(false, "translation averaging failed: " + stats.translation.message);
   std::map<uint32_t, Pose> poses;
   for (uint32_t id : images) poses[id] = Pose::FromRC(rotations.at(id), centres.at(id));
+  if (options.track_positioning.enabled) {
+    timer.Restart();
+    if (!PositionOnTracks(tracks, triplets, options.track_positioning, &poses, &stats.track_positioning) &&
+        !stats.track_positioning.message.empty())
+      PGBA_LOG_INFO << "track positioning skipped: " << stats.track_positioning.message;
+    stats.seconds_translation += timer.Seconds();
+  }
 
   // 6. Similarities; triplets whose centres do not fit are dropped.
   timer.Restart();
@@ -290,6 +298,14 @@ nlohmann::json GlobalInitReport(const GlobalInitResult& result) {
                       {"seconds_centres", s.translation.seconds_centres},
                       {"seconds_refine", s.translation.seconds_refine},
                       {"residual_median_rel", s.translation.residual_median_rel}};
+  j["track_positioning"] = {{"ran", s.track_positioning.ran},
+                            {"message", s.track_positioning.message},
+                            {"points", s.track_positioning.num_points},
+                            {"observations", s.track_positioning.num_observations},
+                            {"iterations", s.track_positioning.iterations},
+                            {"initial_rms_px", s.track_positioning.initial_rms_px},
+                            {"final_rms_px", s.track_positioning.final_rms_px},
+                            {"seconds", s.track_positioning.seconds}};
   return j;
 }
 

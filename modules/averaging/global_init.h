@@ -14,7 +14,8 @@
 //      images with no inlier observation lose their rotation (and their triplets);
 //   4. triplets whose local rotations disagree with the averaged ones are dropped (and the
 //      component recomputed);
-//   5. translation averaging;
+//   5. translation averaging, then the centres refined on the tracks with the rotations
+//      held fixed (track_positioning.h);
 //   6. similarities of the kept triplets; triplets whose centres do not fit are dropped (and
 //      the component recomputed once more).
 #pragma once
@@ -28,6 +29,7 @@
 #include "averaging/outlier_injection.h"
 #include "averaging/pair_validation.h"
 #include "averaging/rotation_averaging.h"
+#include "averaging/track_positioning.h"
 #include "averaging/translation_averaging.h"
 #include "pgba/geometry/pose.h"
 #include "pgba/scene/reconstruction.h"
@@ -39,6 +41,7 @@ struct GlobalInitOptions {
   PairValidationOptions pair_validation;
   RotationAveragingOptions rotation;
   TranslationAveragingOptions translation;
+  TrackPositioningOptions track_positioning;
   // A triplet is dropped before translation averaging if one of its local rotations r_k
   // differs from R_k alpha^T by more than this (degrees); <= 0 keeps every triplet (the
   // sensitivity experiment hands its outliers to the global BA on purpose).
@@ -49,7 +52,7 @@ struct GlobalInitOptions {
   OutlierInjectionOptions outliers;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(GlobalInitOptions, pair_validation, rotation, translation,
-                                                max_triplet_rotation_error_deg, max_triplet_centre_error, outliers)
+                                                track_positioning, max_triplet_rotation_error_deg, max_triplet_centre_error, outliers)
 
 struct GlobalInitStats {
   int images_input = 0;
@@ -71,6 +74,7 @@ struct GlobalInitStats {
   int triplets_corrupted = 0;
   RotationAveragingSummary rotation;
   TranslationAveragingSummary translation;
+  TrackPositioningSummary track_positioning;
   double seconds_rotation = 0.0;
   double seconds_translation = 0.0;
   double seconds_similarity = 0.0;

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <set>
 
+#include "evaluation/ground_truth.h"
 #include "triplets/triplet_selection.h"
 #include "mapper/global_mapper.h"
 #include "pgba/geometry/rotation.h"
@@ -20,6 +21,11 @@ struct Outcome {
   GlobalMapperResult result;
   Report report;
   double rot_median = 0, rot_max = 0, centre_median = 0;
+  // The same errors by `pgba evaluate`'s protocol (evaluation/ground_truth.h): the rotations
+  // under the Sim(3) that aligns the centres. On a nearly straight path that alignment's roll
+  // about the path is set by the centres' small lateral offsets, so centre errors show up
+  // as rotation errors of every image.
+  double eval_rot_median = 0, eval_rot_max = 0, eval_centre_median = 0;
   int triplet_components = 0;
 };
 
@@ -52,9 +58,21 @@ Outcome RunMapper(const SyntheticScene& scene, const GlobalMapperOptions& option
   std::vector<std::array<uint32_t, 3>> ids;
   for (const Triplet& t : o.result.init.triplets) ids.push_back(t.image_ids);
   TripletGraphComponents(ids, &o.triplet_components);
+  Reconstruction model = scene.input;
+  std::vector<uint32_t> posed;
+  for (const auto& [id, p] : o.result.init.poses) {
+    model.images.at(id).pose = p;
+    posed.push_back(id);
+  }
+  model.KeepImages(posed);
+  const GroundTruthErrors eval = CompareToGroundTruth(model, scene.gt);
+  o.eval_rot_median = eval.rot_err_deg_median;
+  o.eval_rot_max = eval.rot_err_deg_max;
+  o.eval_centre_median = eval.center_err_rel_median;
   std::cout << scene.gt.images.size() << " images: " << o.result.init.poses.size() << " registered, "
             << o.result.init.triplets.size() << " triplets, rotation error median " << o.rot_median << " max "
-            << o.rot_max << " deg, centre error median " << o.centre_median << " of extent\n";
+            << o.rot_max << " deg, centre error median " << o.centre_median << " of extent; evaluate: rotation "
+            << o.eval_rot_median << " / " << o.eval_rot_max << " deg, centre " << o.eval_centre_median << "\n";
   return o;
 }
 
@@ -98,6 +116,29 @@ TEST(GlobalMapper, PlanarNoiseFreeIsExact) {
 TEST(GlobalMapper, PlanarWithNoise) {
   const SyntheticScene scene = Scene(SyntheticScenario::kPlanar, 30);
   ExpectAccurate(scene, RunMapper(scene), 0.1, 0.5, 0.01);
+}
+
+// The default 60-frame planar video. Its triplets' baseline ratios carry the plane's
+// rotation / translation-over-depth ambiguity (4-7% per triplet), which translation averaging
+// chained into a drifting scale: centre error 1.5% of the extent and, by the evaluation's
+// protocol, 1.95 deg of rotation error (the centres' Sim(3) tilted). The centres refined on
+// the tracks with the averaged rotations fixed (averaging/track_positioning.h, off by
+// default, see there) are at 0.15%,
+// and the evaluation's rotation error at 0.29 deg median. Not reachable: < 0.1 deg. The
+// maximum-likelihood solution of the same observations (a point-based BA started from the
+// truth) has 0.44 deg by the evaluation's protocol and 0.115 deg after the best global
+// rotation; what is left here is the drift of the rotations averaged from triplets that
+// each confuse pitch and yaw with the translation by 0.1 deg (0.18 deg after 60 frames).
+TEST(GlobalMapper, PlanarSixtyFrames) {
+  const SyntheticScene scene = Scene(SyntheticScenario::kPlanar, 60);
+  GlobalMapperOptions options;
+  options.global_init.track_positioning.enabled = true;
+  const Outcome o = RunMapper(scene, options);
+  ExpectAccurate(scene, o, 0.25, 0.5, 0.005);
+  EXPECT_LT(o.eval_centre_median, 0.005);
+  EXPECT_LT(o.eval_rot_median, 0.5);
+  EXPECT_LT(o.eval_rot_max, 1.0);
+  EXPECT_TRUE(o.result.init.stats.track_positioning.ran);
 }
 
 // 10% and 20% of the relative rotations (pairs and triplets) replaced by random ones on the
