@@ -84,21 +84,21 @@ Eigen::Matrix3d Oriented(const Graph& g, int e, int a) {
 // Stage 1's validation: observation e = (i, j) is validated if an observation of another
 // source of the same image pair agrees with it, or two observations of other sources close
 // the triangle (i, j, k) with it, within `tolerance` (radians).
-std::vector<bool> ValidatedObservations(const Graph& g, double tolerance) {
+std::vector<char> ValidatedObservations(const Graph& g, double tolerance) {
   const int n = static_cast<int>(g.ids.size());
   std::vector<std::map<int, std::vector<int>>> adjacent(n);  // node -> neighbour -> observations
   for (size_t e = 0; e < g.i.size(); ++e) {
     adjacent[g.i[e]][g.j[e]].push_back(static_cast<int>(e));
     adjacent[g.j[e]][g.i[e]].push_back(static_cast<int>(e));
   }
-  std::vector<bool> validated(g.i.size(), false);
+  std::vector<char> validated(g.i.size(), 0);  // char, not bool: written in parallel
   tbb::parallel_for(size_t(0), g.i.size(), [&](size_t k) {
     const int e = static_cast<int>(k);
     const int a = g.i[e], b = g.j[e];
     const Eigen::Matrix3d& R_ab = g.R_ij[e];
     for (int f : adjacent[a].at(b))
       if (f != e && Independent(g, e, f) && LogSO3(Oriented(g, f, a).transpose() * R_ab).norm() < tolerance) {
-        validated[e] = true;
+        validated[e] = 1;
         return;
       }
     // Triangles a -> b -> c -> a: R_ca R_bc R_ab ~ I.
@@ -112,7 +112,7 @@ std::vector<bool> ValidatedObservations(const Graph& g, double tolerance) {
         const Eigen::Matrix3d R_ac = Oriented(g, f, b) * R_ab;
         for (int h : back->second)
           if (Independent(g, e, h) && LogSO3(Oriented(g, h, a).transpose() * R_ac).norm() < tolerance) {
-            validated[e] = true;
+            validated[e] = 1;
             return;
           }
       }
@@ -136,7 +136,7 @@ int GaugeNode(const Graph& g) {
 // observations of one image pair: the best ranked one is used.
 std::vector<Eigen::Matrix3d> SpanningTreeInit(const Graph& g, int root, double tolerance, int* tree_validated) {
   const int n = static_cast<int>(g.ids.size());
-  const std::vector<bool> validated = ValidatedObservations(g, tolerance);
+  const std::vector<char> validated = ValidatedObservations(g, tolerance);
   double top = 0.0;
   for (size_t e = 0; e < g.i.size(); ++e) top = std::max(top, g.support[e] + 1e-9 * g.prior[e]);
   std::vector<WeightedEdge> edges(g.i.size());
