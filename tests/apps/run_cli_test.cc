@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -81,6 +82,42 @@ TEST_F(RunCli, NoUsableImagesFailsCleanly) {
     EXPECT_FALSE(fs::exists(out / "sparse")) << images;
     if (fs::exists(out / "report.json")) EXPECT_EQ(Json(out / "report.json")["status"], "failed");
   }
+}
+
+// Too few images to reconstruct (one, two, or the same photo four times), and calibration
+// files that cannot be used: exit code 2, one "error:" line naming the problem, no model.
+TEST_F(RunCli, TooFewOrDuplicateImagesAndBadCalibrationFailCleanly) {
+  std::vector<fs::path> photos;
+  for (const auto& e : fs::directory_iterator(dir_ / "scene" / "images")) photos.push_back(e.path());
+  std::sort(photos.begin(), photos.end());
+  ASSERT_GE(photos.size(), 2u);
+  const fs::path one = dir_ / "one", two = dir_ / "two", dup = dir_ / "dup";
+  for (const fs::path& d : {one, two, dup}) fs::create_directories(d);
+  fs::copy_file(photos[0], one / photos[0].filename());
+  fs::copy_file(photos[0], two / photos[0].filename());
+  fs::copy_file(photos[1], two / photos[1].filename());
+  for (int k = 0; k < 4; ++k) fs::copy_file(photos[0], dup / ("copy" + std::to_string(k) + ".png"));
+  const std::string calib = " --calib " + (dir_ / "scene" / "cameras.txt").string();
+  auto expect_clean_failure = [&](const std::string& args, const fs::path& out, const std::string& message) {
+    EXPECT_EQ(Run(args + " --out " + out.string()), 2) << args;
+    EXPECT_NE(Stderr().find("error: "), std::string::npos) << Stderr();
+    EXPECT_NE(Stderr().find(message), std::string::npos) << Stderr();
+    EXPECT_FALSE(fs::exists(out / "report.html")) << args;
+    EXPECT_FALSE(fs::exists(out / "sparse")) << args;
+  };
+  expect_clean_failure("run --images " + one.string() + calib, dir_ / "out_one", "at least 3");
+  expect_clean_failure("run --images " + two.string() + calib, dir_ / "out_two", "at least 3");
+  expect_clean_failure("run --images " + dup.string() + calib, dir_ / "out_dup", "no verified matches");
+
+  const fs::path bad_json = dir_ / "bad.json", bad_txt = dir_ / "bad_cameras.txt";
+  std::ofstream(bad_json) << R"({"cameras": [{"camera_id": 1, "model": "PINHOLE", "width": 480, "height": 360,
+                                 "params": [400, 400, 240]}]})";
+  std::ofstream(bad_txt) << "1 PINHOLE 480 360 nan 400 240 180\n";
+  const std::string images = "run --images " + (dir_ / "scene" / "images").string();
+  expect_clean_failure(images + " --calib " + bad_json.string(), dir_ / "out_badjson", bad_json.string());
+  expect_clean_failure(images + " --calib " + bad_txt.string(), dir_ / "out_badtxt", bad_txt.string());
+  expect_clean_failure(images + " --calib " + (dir_ / "missing.txt").string(), dir_ / "out_missing",
+                       "missing.txt");
 }
 
 }  // namespace
