@@ -10,6 +10,7 @@
 
 #include "apps/commands.h"
 #include "mapper/global_mapper.h"
+#include "mapper/run_pipeline.h"
 #include "pgba/io/colmap_database.h"
 #include "pgba/io/colmap_text.h"
 #include "pgba/util/error.h"
@@ -31,18 +32,15 @@ void RegisterInit(CLI::App& app) {
   tracks->excludes(database);
   database->excludes(tracks);
   sub->add_option("--out", args->out, "Workspace directory")->required();
-  sub->add_option("--config", args->config, "JSON config (sections pairs, triplets, global_init)");
+  sub->add_option("--config", args->config, "JSON config or a preset of configs/ (init uses its sections pairs, triplets, global_init)");
   sub->add_option("--rotation-outliers", args->rotation_outliers,
                   "Fraction of relative rotations replaced by random ones before averaging (sensitivity test)")
       ->check(CLI::Range(0.0, 1.0));
 
   AddCommand(app, sub, [args] {
-    GlobalMapperOptions options;
-    if (!args->config.empty()) {
-      ConfigSchema schema;
-      AddGlobalMapperSections(&schema);
-      ReadGlobalMapperOptions(LoadConfig(args->config, schema), &options);
-    }
+    // The one loader of every command: a configs/ preset with sections of other stages
+    // (matching, local_hessian, ...) serves init too; only the mapper's sections are used.
+    GlobalMapperOptions options = LoadRunOptions(args->config).reconstruction.mapper;
     if (args->rotation_outliers > 0) options.global_init.outliers.fraction = args->rotation_outliers;
     if (args->tracks.empty() == args->database.empty())
       ThrowInputError("--tracks", 0, "give one of --tracks MODEL_DIR or --database DB.db");

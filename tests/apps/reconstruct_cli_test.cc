@@ -89,3 +89,24 @@ TEST_F(ReconstructCli, ForeignOrIncompleteWorkspaceIsAnErrorNamingTheFile) {
 }
 
 }  // namespace
+
+// Every command reads a configs/ preset through the one loader (run_pipeline.h): `init`
+// accepts a preset with sections of stages it does not run (matching, ...) and still names
+// an unknown section.
+namespace {
+TEST_F(ReconstructCli, InitAcceptsEveryPresetAndRejectsUnknownSections) {
+  for (const auto& entry : fs::directory_iterator(fs::path(PGBA_SOURCE_DIR) / "configs")) {
+    const fs::path ws = dir_ / ("init_" + entry.path().stem().string());
+    const pgba::test::CliResult r = Run("init --tracks " + (dir_ / "scene" / "input").string() + " --out " +
+                                        ws.string() + " --config " + entry.path().string());
+    EXPECT_EQ(r.code, 0) << entry.path() << "\n" << r.output;
+    EXPECT_TRUE(fs::exists(ws / "init" / "images.txt")) << entry.path();
+  }
+  const fs::path bogus = dir_ / "bogus.json";
+  std::ofstream(bogus) << R"({"bogus": {}})";
+  const pgba::test::CliResult r = Run("init --tracks " + (dir_ / "scene" / "input").string() + " --out " +
+                                      (dir_ / "init_bogus").string() + " --config " + bogus.string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find(bogus.string() + ": unknown section 'bogus'"), std::string::npos) << r.output;
+}
+}  // namespace
