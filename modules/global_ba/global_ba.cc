@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <thread>
 
@@ -26,6 +27,7 @@ namespace {
 struct TripletTerm {
   const LocalHessian* hessian = nullptr;
   Matrix18d W;
+  Vector18d newton_step = Vector18d::Zero();  // LocalHessian::newton_step (kHessian only)
   double unit = 1.0;  // ResidualUnit
   TripletSimilarity sim;
   double irls_weight = 1.0;
@@ -48,7 +50,7 @@ std::map<uint32_t, Pose> CurrentPoses(const Unknowns& u) {
 TripletMotionResidual MakeResidual(const Unknowns& u, const TripletTerm& t) {
   std::array<Eigen::Matrix3d, 3> R0;
   for (int k = 0; k < 3; ++k) R0[k] = u.poses.at(t.hessian->image_ids[k]).R0;
-  return TripletMotionResidual(R0, t.sim, t.hessian->local_poses, t.W);
+  return TripletMotionResidual(R0, t.sim, t.hessian->local_poses, t.W, t.newton_step);
 }
 
 // Fitting error e_s = |W_s (x_s - x0_s)| / unit_s at the current state.
@@ -66,24 +68,47 @@ double Median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-// Robust scale of the fitting errors and the IRLS weights from them.
-double Reweight(Unknowns* u, const GlobalBAOptions& options) {
+// Robust scale of the fitting errors and the IRLS weights from them; the errors in `errors`.
+double Reweight(Unknowns* u, const GlobalBAOptions& options, std::vector<double>* errors = nullptr) {
   std::vector<double> e(u->terms.size());
   for (size_t i = 0; i < u->terms.size(); ++i) e[i] = FittingError(*u, u->terms[i]);
   const double sigma = Median(e);
   for (size_t i = 0; i < u->terms.size(); ++i) u->terms[i].irls_weight = IrlsWeight(e[i], sigma, options.irls_factor);
+  if (errors) *errors = std::move(e);
   return sigma;
+}
+
+// Per-coordinate pixel noise variance of a triplet, from its local BA residuals: the sum of
+// squares over the degrees of freedom (2 per observation, minus 3 per point and the 11
+// informative pose directions). NaN when not estimable.
+double NoiseVariance(const LocalHessian& h) {
+  const double dof = 2.0 * h.num_observations - 3.0 * h.num_points - 11.0;
+  if (!(dof > 0) || !(h.rms_px > 0)) return std::numeric_limits<double>::quiet_NaN();
+  return h.rms_px * h.rms_px * h.num_observations / dof;
+}
+
+// Median over the terms of e_s^2 / (11 sigma_s^2): how far the solution is from each
+// triplet's model centre, in units of the triplet's own noise (GlobalBAOptions::
+// relinearize_misfit).
+double MisfitRatio(const Unknowns& u, const std::vector<double>& errors) {
+  std::vector<double> r;
+  for (size_t i = 0; i < u.terms.size(); ++i) {
+    const double v = NoiseVariance(*u.terms[i].hessian);
+    if (std::isfinite(v)) r.push_back(errors[i] * errors[i] / (11.0 * v));
+  }
+  return r.empty() ? std::numeric_limits<double>::quiet_NaN() : Median(r);
 }
 
 class IterationReporter : public ceres::IterationCallback {
  public:
-  IterationReporter(const Unknowns* unknowns, int round, GlobalBASummary* summary,
+  IterationReporter(const Unknowns* unknowns, int round, bool report_start, GlobalBASummary* summary,
                     const GlobalBAIterationCallback* callback)
-      : unknowns_(unknowns), round_(round), summary_(summary), callback_(callback) {}
+      : unknowns_(unknowns), round_(round), report_start_(report_start), summary_(summary), callback_(callback) {}
 
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
-    // Iteration 0 of a later round repeats the previous round's end state (re-weighted).
-    if (s.iteration == 0 && round_ > 0) return ceres::SOLVER_CONTINUE;
+    // Iteration 0 of a later round repeats the previous round's end state (re-weighted), and
+    // that of a re-linearised solve the previous solve's end state.
+    if (s.iteration == 0 && (round_ > 0 || !report_start_)) return ceres::SOLVER_CONTINUE;
     if (s.iteration > 0) ++summary_->iterations;
     summary_->cost_per_iteration.push_back(s.cost);
     if (*callback_) {
@@ -101,6 +126,7 @@ class IterationReporter : public ceres::IterationCallback {
  private:
   const Unknowns* unknowns_;
   int round_;
+  bool report_start_;
   GlobalBASummary* summary_;
   const GlobalBAIterationCallback* callback_;
 };
@@ -128,8 +154,8 @@ void FixGauge(const GlobalBAOptions& options, Unknowns* u, ceres::Problem* probl
 }
 
 // One IRLS round: Levenberg-Marquardt on the current weights. Returns the Ceres summary.
-ceres::Solver::Summary SolveRound(const GlobalBAOptions& options, double sigma, int round, Unknowns* u,
-                                  GlobalBASummary* summary, const GlobalBAIterationCallback& callback) {
+ceres::Solver::Summary SolveRound(const GlobalBAOptions& options, double sigma, int round, bool report_start,
+                                  Unknowns* u, GlobalBASummary* summary, const GlobalBAIterationCallback& callback) {
   ceres::Problem::Options po;
   po.manifold_ownership = ceres::TAKE_OWNERSHIP;
   ceres::Problem problem(po);
@@ -166,7 +192,7 @@ ceres::Solver::Summary SolveRound(const GlobalBAOptions& options, double sigma, 
   so.num_threads = options.num_threads > 0 ? options.num_threads
                                            : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   so.logging_type = ceres::SILENT;
-  IterationReporter reporter(u, round, summary, &callback);
+  IterationReporter reporter(u, round, report_start, summary, &callback);
   so.callbacks.push_back(&reporter);
   so.update_state_every_iteration = static_cast<bool>(callback);
   ceres::Solver::Summary s;
@@ -176,7 +202,8 @@ ceres::Solver::Summary SolveRound(const GlobalBAOptions& options, double sigma, 
 
 GlobalBAResult RunGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const std::vector<Triplet>& triplets,
                            const std::vector<LocalHessian>& hessians, const GlobalBAOptions& options,
-                           const GlobalBAIterationCallback& callback, const GcpInput* gcps) {
+                           const GlobalBAIterationCallback& callback, const GcpInput* gcps,
+                           bool report_start = true) {
   Timer timer;
   const TripletSelection sel = SelectTriplets(initial_poses, triplets, hessians);
   if (sel.hessian_indices.empty())
@@ -189,6 +216,8 @@ GlobalBAResult RunGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const 
     TripletTerm t;
     t.hessian = &hessians[hi];
     t.W = TripletWeightMatrix(*t.hessian, options);
+    // Aver_BA averages the relative motions themselves (scalar weights, no quadratic model).
+    if (options.weighting == TripletWeighting::kHessian) t.newton_step = t.hessian->newton_step;
     t.unit = ResidualUnit(*t.hessian, options);
     std::array<Pose, 3> global;
     for (int k = 0; k < 3; ++k) global[k] = initial_poses.at(t.hessian->image_ids[k]);
@@ -225,7 +254,7 @@ GlobalBAResult RunGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const 
 
   for (int round = 0; round < std::max(1, options.max_rounds); ++round) {
     const double sigma = Reweight(&u, options);
-    const ceres::Solver::Summary s = SolveRound(options, sigma, round, &u, &summary, callback);
+    const ceres::Solver::Summary s = SolveRound(options, sigma, round, report_start, &u, &summary, callback);
     if (round == 0) summary.initial_cost = s.initial_cost;
     summary.final_cost = s.final_cost;
     summary.rounds = round + 1;
@@ -237,7 +266,10 @@ GlobalBAResult RunGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const 
     const double decrease = s.initial_cost > 0 ? (s.initial_cost - s.final_cost) / s.initial_cost : 0.0;
     if (round > 0 && decrease < options.round_tolerance) break;
   }
-  summary.robust_scale = Reweight(&u, options);
+  std::vector<double> errors;
+  summary.robust_scale = Reweight(&u, options, &errors);
+  if (options.weighting == TripletWeighting::kHessian) summary.misfit_ratio = MisfitRatio(u, errors);
+  summary.misfit_ratio_initial = summary.misfit_ratio;
 
   result.poses = CurrentPoses(u);
   result.similarities.assign(triplets.size(), Sim3());
@@ -252,8 +284,36 @@ GlobalBAResult RunGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const 
                 << "): " << summary.num_poses << " poses, " << summary.num_triplets << " triplets, "
                 << summary.iterations << " iterations in " << summary.rounds << " rounds, " << summary.seconds
                 << " s, fitting scale " << summary.robust_scale << ", " << summary.num_triplets_downweighted
-                << " triplets down-weighted";
+                << " triplets down-weighted"
+                << (std::isfinite(summary.misfit_ratio) ? ", misfit " + std::to_string(summary.misfit_ratio) : "");
   return result;
+}
+
+// Median over the re-linearised triplets of |W_s (x_s - x_lin_s)| / (unit_s sigma_s): how far
+// `result` moved from the linearisation points (the local poses of `hessians[i]`, i in
+// `relinearized`), in noise sigmas.
+double Displacement(const GlobalBAResult& result, const std::vector<LocalHessian>& hessians,
+                    const std::vector<int>& relinearized, const GlobalBAOptions& options) {
+  std::vector<double> d;
+  for (const int i : relinearized) {
+    const LocalHessian& h = hessians[i];
+    const double v = NoiseVariance(h);
+    if (!std::isfinite(v) || !(result.irls_weights[i] > 0)) continue;
+    std::array<PoseBlock, 3> blocks;
+    std::array<Pose, 3> global;
+    std::array<Eigen::Matrix3d, 3> R0;
+    for (int k = 0; k < 3; ++k) {
+      global[k] = result.poses.at(h.image_ids[k]);
+      blocks[k] = PoseBlock::FromPose(global[k]);
+      R0[k] = blocks[k].R0;
+    }
+    const TripletSimilarity sim = SimilarityFromSim3(global, result.similarities[i]);
+    const TripletMotionResidual f(R0, sim, h.local_poses, TripletWeightMatrix(h, options));
+    double r[18];
+    f(blocks[0].x.data(), blocks[1].x.data(), blocks[2].x.data(), sim.x.data(), r);
+    d.push_back(Eigen::Map<const Vector18d>(r).norm() / (ResidualUnit(h, options) * std::sqrt(v)));
+  }
+  return d.empty() ? 0.0 : Median(d);
 }
 
 }  // namespace
@@ -262,6 +322,81 @@ GlobalBAResult PointlessGlobalBA(const std::map<uint32_t, Pose>& initial_poses, 
                                  const std::vector<LocalHessian>& hessians, const GlobalBAOptions& options,
                                  const GlobalBAIterationCallback& callback, const GcpInput* gcps) {
   return RunGlobalBA(initial_poses, triplets, hessians, options, callback, gcps);
+}
+
+GlobalBAResult RelinearizedGlobalBA(const Reconstruction& tracks, const LocalHessianOptions& lh_options,
+                                    const std::map<uint32_t, Pose>& initial_poses,
+                                    const std::vector<Triplet>& triplets, const std::vector<LocalHessian>& hessians,
+                                    const GlobalBAOptions& options, const GlobalBAIterationCallback& callback,
+                                    const GcpInput* gcps) {
+  Timer timer;
+  GlobalBAOptions pointless = options;
+  pointless.weighting = TripletWeighting::kHessian;
+  GlobalBAResult result = RunGlobalBA(initial_poses, triplets, hessians, pointless, callback, gcps);
+  GlobalBASummary total = result.summary;
+  const bool trigger = options.relinearize_misfit <= 0 || total.misfit_ratio > options.relinearize_misfit;
+  if (options.max_relinearizations > 0 && trigger) {
+    PGBA_LOG_INFO << "global BA: misfit " << total.misfit_ratio << " (local models disagree with their consensus): "
+                  << "re-linearising the local hessians at the solution";
+    LocalHessianOptions at_solution = lh_options;
+    at_solution.max_iterations = 0;  // h and g where the solution puts the triplet, points re-triangulated
+    ObservationShares shares;
+    if (at_solution.shared_observation_weighting) shares = CountObservationShares(tracks, triplets);
+    std::vector<LocalHessian> current = hessians;
+    // The triplets with the local frame of each re-linearised model (its similarity from the
+    // solution), for SimilarityInit::kFromTriplet.
+    std::vector<Triplet> frames = triplets;
+    for (int k = 1; k <= options.max_relinearizations; ++k) {
+      Timer pass;
+      std::vector<Triplet> predicted;
+      std::vector<int> index;
+      for (size_t i = 0; i < triplets.size(); ++i) {
+        if (!(result.irls_weights[i] > 0)) continue;  // not used
+        Triplet t = triplets[i];
+        t.global_to_local = result.similarities[i];
+        for (int v = 0; v < 3; ++v) t.local_poses[v] = t.global_to_local.Apply(result.poses.at(t.image_ids[v]));
+        predicted.push_back(std::move(t));
+        index.push_back(static_cast<int>(i));
+      }
+      LocalHessianResult lr = ComputeLocalHessians(tracks, predicted, at_solution, &shares);
+      std::vector<int> relinearized;
+      for (size_t j = 0; j < index.size(); ++j) {
+        if (lr.hessians[j].status != LocalHessianStatus::kOk) continue;  // keeps its previous model
+        current[index[j]] = std::move(lr.hessians[j]);
+        current[index[j]].triplet_index = index[j];
+        frames[index[j]] = std::move(predicted[j]);
+        relinearized.push_back(index[j]);
+      }
+      total.relinearization_seconds += pass.Seconds();
+      const int offset = total.iterations;
+      GlobalBAIterationCallback shifted;
+      if (callback)
+        shifted = [&callback, offset](const GlobalBAIteration& it) {
+          GlobalBAIteration c = it;
+          c.iteration += offset;
+          callback(c);
+        };
+      result = RunGlobalBA(result.poses, frames, current, pointless, shifted, gcps, /*report_start=*/false);
+      const GlobalBASummary& s = result.summary;
+      total.iterations += s.iterations;
+      total.rounds += s.rounds;
+      total.cost_per_iteration.insert(total.cost_per_iteration.end(), s.cost_per_iteration.begin(),
+                                      s.cost_per_iteration.end());
+      total.final_cost = s.final_cost;
+      total.robust_scale = s.robust_scale;
+      total.num_triplets_downweighted = s.num_triplets_downweighted;
+      total.misfit_ratio = s.misfit_ratio;
+      total.relinearizations = k;
+      total.relinearization_displacement = Displacement(result, current, relinearized, pointless);
+      PGBA_LOG_INFO << "global BA re-linearisation " << k << ": " << relinearized.size() << " of " << index.size()
+                    << " local hessians at the solution, moved " << total.relinearization_displacement
+                    << " noise sigmas from them, misfit " << total.misfit_ratio;
+      if (total.relinearization_displacement < options.relinearize_tolerance) break;
+    }
+  }
+  total.seconds = timer.Seconds();
+  result.summary = total;
+  return result;
 }
 
 GlobalBAResult AveragingGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const std::vector<Triplet>& triplets,

@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -79,11 +80,33 @@ struct GlobalBAOptions {
   double scalar_position_sigma = 1e-3;
   // Ceres threads; 0 = hardware concurrency.
   int num_threads = 0;
+  // --- Re-linearisation of the local models (RelinearizedGlobalBA; pointless BA only) ---
+  // Each h_s is the curvature of triplet s's cost at its own solution x0_s, and the global
+  // cost uses it as an exact quadratic wherever the solution lands. When h_s is extremely
+  // anisotropic (narrow-field triplets: 1e8 between the stiffest and the weakest informative
+  // directions), the solution's deviation along the weak directions (pivots about the scene)
+  // is large enough that second-order terms of the chart and of the similarity gauge reach
+  // the stiff directions, many times the noise there: the quadratics then disagree with
+  // the truth, and the global BA averages wrong models. The remedy is Gauss-Newton on the
+  // triplets' own costs (paper eq. 1): re-run each triplet's local BA step at the pose the
+  // global solution predicts for it (points re-triangulated, no iteration), take h_s and the
+  // gradient g_s there (paper eq. 3, hence LocalHessian::newton_step), and solve again.
+  // At most this many re-linearisations; 0 = never (the paper's single linearisation).
+  int max_relinearizations = 3;
+  // Re-linearise only when the models disagree with their consensus: when the median over
+  // triplets of e_s^2 / (11 sigma_s^2) (e_s the fitting error, sigma_s the triplet's pixel
+  // noise from its local BA residuals) exceeds this; <= 0: always. Consistent models sit
+  // well below 1 at the solution (it lies between them); broken ones far above.
+  double relinearize_misfit = 1.0;
+  // Stop when the solution moved from the linearisation points by less than this many noise
+  // sigmas (median over triplets of |W_s (x_s - x_lin)| / (unit_s sigma_s)).
+  double relinearize_tolerance = 0.5;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(GlobalBAOptions, weighting, gauge, similarity_init, max_rounds,
                                                 max_iterations_per_round, round_tolerance, function_tolerance,
                                                 parameter_tolerance, irls_factor, huber_factor,
-                                                scalar_rotation_sigma, scalar_position_sigma, num_threads)
+                                                scalar_rotation_sigma, scalar_position_sigma, num_threads,
+                                                max_relinearizations, relinearize_misfit, relinearize_tolerance)
 
 // State handed to the iteration callback after every Levenberg-Marquardt iteration (and
 // once before the first, iteration 0): e.g. to evaluate sigma for a convergence curve.
@@ -119,6 +142,15 @@ struct GlobalBASummary {
   // whether they fix the gauge (>= 3 non-collinear GCPs; no pose or similarity held then).
   int num_gcp_residuals = 0;
   bool gcp_gauge = false;
+  // Median normalised misfit e_s^2 / (11 sigma_s^2) at the end (kHessian; NaN otherwise)
+  // and after the first solve with the stage's local Hessians (what the trigger saw).
+  double misfit_ratio = std::numeric_limits<double>::quiet_NaN();
+  double misfit_ratio_initial = std::numeric_limits<double>::quiet_NaN();
+  // Re-linearisations done (RelinearizedGlobalBA), the time of their local Hessian passes
+  // (included in `seconds`), and the last one's median displacement in noise sigmas.
+  int relinearizations = 0;
+  double relinearization_seconds = 0.0;
+  double relinearization_displacement = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct GlobalBAResult {
@@ -138,6 +170,18 @@ struct GlobalBAResult {
 GlobalBAResult PointlessGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const std::vector<Triplet>& triplets,
                                  const std::vector<LocalHessian>& hessians, const GlobalBAOptions& options,
                                  const GlobalBAIterationCallback& callback = nullptr, const GcpInput* gcps = nullptr);
+
+// Pointless global BA with re-linearised local models (GlobalBAOptions::
+// max_relinearizations): PointlessGlobalBA; then, if the misfit trigger fires, up to
+// max_relinearizations times: every used triplet's local Hessian recomputed from `tracks`
+// at the local poses the current solution predicts (lh_options with max_iterations = 0),
+// and PointlessGlobalBA again from the current poses. The callback sees one continuous
+// iteration count; the summary adds up iterations, rounds and time over the solves.
+GlobalBAResult RelinearizedGlobalBA(const Reconstruction& tracks, const LocalHessianOptions& lh_options,
+                                    const std::map<uint32_t, Pose>& initial_poses,
+                                    const std::vector<Triplet>& triplets, const std::vector<LocalHessian>& hessians,
+                                    const GlobalBAOptions& options, const GlobalBAIterationCallback& callback = nullptr,
+                                    const GcpInput* gcps = nullptr);
 
 // Aver_BA: the same problem and code path with TripletWeighting::kScalar.
 GlobalBAResult AveragingGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const std::vector<Triplet>& triplets,

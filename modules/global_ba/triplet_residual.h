@@ -1,5 +1,7 @@
-// The residual of one triplet in the global BA (paper eq. 5):
-//     r_s = W_s (x_s(X, sim_s) - x0_s),     W_s^T W_s = h_s  (W_s = D_s V_s),
+// The residual of one triplet in the global BA (paper eq. 5, with the gradient term of eq. 3):
+//     r_s = W_s (x_s(X, sim_s) - x0_s - n_s),     W_s^T W_s = h_s  (W_s = D_s V_s),
+// n_s = -h_s^-1 g_s the Newton step of the local quadratic at x0_s (LocalHessian::newton_step;
+// zero for a converged local BA, as eq. 5 assumes),
 // x_s stacking, for the triplet's views k = 0..2, the local 6-vector predicted from the
 // global pose through the similarity (paper eq. 4, centroid form of triplet_similarity.h),
 // in the SAME chart as h_s around the local BA's solution x0 = {r0_k, c0_k}:
@@ -28,10 +30,12 @@ struct TripletMotionResidual {
   std::array<Eigen::Matrix3d, 3> r0t_R0;
   std::array<Eigen::Vector3d, 3> c0;
   Matrix18d W;
+  Vector18d offset = Vector18d::Zero();  // W_s n_s
 
   TripletMotionResidual(const std::array<Eigen::Matrix3d, 3>& R0, const TripletSimilarity& sim,
-                        const std::array<Pose, 3>& x0, const Matrix18d& W)
-      : alpha0(sim.alpha0), G(sim.G), W(W) {
+                        const std::array<Pose, 3>& x0, const Matrix18d& W,
+                        const Vector18d& newton_step = Vector18d::Zero())
+      : alpha0(sim.alpha0), G(sim.G), W(W), offset(W * newton_step) {
     for (int k = 0; k < 3; ++k) {
       r0t_R0[k] = x0[k].R().transpose() * R0[k];
       c0[k] = x0[k].C();
@@ -64,9 +68,9 @@ struct TripletMotionResidual {
     const T* const poses[3] = {p0, p1, p2};
     Eigen::Matrix<T, 18, 1> dx;
     Deviation(poses, sim, &dx);
-    // W dx with double coefficients (no 18x18 matrix of Jets).
+    // W dx - W n with double coefficients (no 18x18 matrix of Jets).
     for (int i = 0; i < 18; ++i) {
-      residual[i] = W(i, 0) * dx(0);
+      residual[i] = W(i, 0) * dx(0) - T(offset(i));
       for (int j = 1; j < 18; ++j) residual[i] += W(i, j) * dx(j);
     }
     return true;

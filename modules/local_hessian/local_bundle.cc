@@ -49,7 +49,8 @@ struct PosePriorCost {
 }  // namespace
 
 LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const Triplet& triplet,
-                                           const LocalHessianOptions& options, LocalBundleProblem* problem) {
+                                           const LocalHessianOptions& options, LocalBundleProblem* problem,
+                                           const ObservationShares* shares) {
   *problem = LocalBundleProblem();
   problem->huber_px = options.huber_px;
   std::array<const Image*, 3> images{};
@@ -96,8 +97,14 @@ LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const T
     // Keep the observations consistent with the point; a point needs two of them.
     std::vector<LocalObservation> kept;
     for (size_t v = 0; v < views.size(); ++v)
-      if (X.residuals_px[v] <= options.max_reprojection_px)
-        kept.push_back({view_of[v], static_cast<int>(problem->points.size()), views[v].pixel});
+      if (X.residuals_px[v] <= options.max_reprojection_px) {
+        double w = 1.0;
+        if (shares) {
+          const auto it = shares->find({triplet.image_ids[view_of[v]], track_id});
+          if (it != shares->end() && it->second > 0) w = 1.0 / it->second;
+        }
+        kept.push_back({view_of[v], static_cast<int>(problem->points.size()), views[v].pixel, w});
+      }
     if (kept.size() < 2) continue;
     problem->points.push_back(X.X);
     problem->observations.insert(problem->observations.end(), kept.begin(), kept.end());
@@ -112,16 +119,25 @@ LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const T
 bool SolveLocalBundle(int max_iterations, LocalBundleProblem* p) {
   if (max_iterations > 0) {
     // Huber on the pixel error, then the attenuation weight on the squared residual; one
-    // loss object shared by all observations.
+    // loss object shared by all observations of weight 1, one of its own for the others
+    // (shared_observation_weighting).
     ceres::ScaledLoss loss(new ceres::HuberLoss(p->huber_px), p->observation_weight, ceres::TAKE_OWNERSHIP);
+    std::vector<std::unique_ptr<ceres::LossFunction>> own;
     ceres::Problem::Options po;
     po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     ceres::Problem problem(po);
     for (auto& pose : p->poses) problem.AddParameterBlock(pose.x.data(), 6);
     for (auto& X : p->points) problem.AddParameterBlock(X.data(), 3);
-    for (const LocalObservation& o : p->observations)
-      problem.AddResidualBlock(ReprojectionError::Create(p->cameras[o.view], p->poses[o.view].R0, o.pixel), &loss,
+    for (const LocalObservation& o : p->observations) {
+      ceres::LossFunction* l = &loss;
+      if (o.weight != 1.0) {
+        own.emplace_back(new ceres::ScaledLoss(new ceres::HuberLoss(p->huber_px), p->observation_weight * o.weight,
+                                               ceres::TAKE_OWNERSHIP));
+        l = own.back().get();
+      }
+      problem.AddResidualBlock(ReprojectionError::Create(p->cameras[o.view], p->poses[o.view].R0, o.pixel), l,
                                p->poses[o.view].x.data(), p->points[o.point].data());
+    }
     if (!p->prior.isZero(0.0)) {
       const Matrix18d A = Eigen::SelfAdjointEigenSolver<Matrix18d>(p->prior).operatorSqrt();
       problem.AddResidualBlock(

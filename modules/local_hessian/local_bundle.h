@@ -16,6 +16,8 @@ struct LocalObservation {
   int view = 0;   // 0..2, position in Triplet::image_ids
   int point = 0;  // index into LocalBundleProblem::points
   Eigen::Vector2d pixel = Eigen::Vector2d::Zero();
+  // Relative weight of this observation's squared residual (times observation_weight).
+  double weight = 1.0;
 };
 
 struct LocalBundleProblem {
@@ -41,7 +43,8 @@ double AttenuationWeight(int num_points, double q);
 // (TriangulateTrack), drops gross outlier observations and points with < 2 views. Returns
 // kOk, kInvalidInput or kTooFewPoints.
 LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const Triplet& triplet,
-                                           const LocalHessianOptions& options, LocalBundleProblem* problem);
+                                           const LocalHessianOptions& options, LocalBundleProblem* problem,
+                                           const ObservationShares* shares = nullptr);
 
 // Runs `max_iterations` Levenberg-Marquardt iterations (Ceres, DENSE_SCHUR, single thread:
 // triplets are parallelised outside) on poses and points, then re-linearises the poses

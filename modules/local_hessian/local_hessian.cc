@@ -3,6 +3,9 @@
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 
+#include <Eigen/Cholesky>
+
+#include <algorithm>
 #include <memory>
 
 #include "modules/local_hessian/local_bundle.h"
@@ -37,18 +40,20 @@ nlohmann::json LocalHessianStatusCounts(const LocalHessianResult& result) {
 }
 
 LocalHessian ComputeLocalHessian(const Reconstruction& tracks, const Triplet& triplet, int triplet_index,
-                                 const LocalHessianOptions& options) {
+                                 const LocalHessianOptions& options, const ObservationShares* shares) {
   LocalHessian out;
   out.triplet_index = triplet_index;
   out.image_ids = triplet.image_ids;
   out.local_poses = triplet.local_poses;
 
   LocalBundleProblem problem;
-  out.status = BuildLocalBundleProblem(tracks, triplet, options, &problem);
+  out.status = BuildLocalBundleProblem(tracks, triplet, options, &problem, shares);
   if (out.status != LocalHessianStatus::kOk) return out;
   out.num_points = static_cast<int>(problem.points.size());
   out.num_observations = static_cast<int>(problem.observations.size());
-  out.observation_weight = problem.observation_weight;
+  double mean_share = 0.0;
+  for (const LocalObservation& o : problem.observations) mean_share += o.weight;
+  out.observation_weight = problem.observation_weight * mean_share / std::max<size_t>(1, problem.observations.size());
 
   if (options.prior_placement == PriorPlacement::kLocalBAAndHessian) {
     // The extrinsics observed at their input values, with mu from h at the input.
@@ -80,7 +85,11 @@ LocalHessian ComputeLocalHessian(const Reconstruction& tracks, const Triplet& tr
   }
   out.h = reduced.h + prior.P;
   DecomposeReducedMatrix(out.h, &out.V, &out.D);  // paper eq. 5
-  if (!out.V.allFinite() || !out.D.allFinite()) {
+  // Minimiser of the quadratic of paper eq. 3, delta^T h delta / 2 + g^T delta (Ceres'
+  // 1/2 |r|^2 convention): -h^-1 g. g is orthogonal to the similarity directions (the cost
+  // is invariant under them), so the prior on those directions does not bias the step.
+  out.newton_step = -out.h.ldlt().solve(out.reduced_gradient);
+  if (!out.V.allFinite() || !out.D.allFinite() || !out.newton_step.allFinite()) {
     out.status = LocalHessianStatus::kNonFinite;
     return out;
   }
@@ -88,16 +97,40 @@ LocalHessian ComputeLocalHessian(const Reconstruction& tracks, const Triplet& tr
   return out;
 }
 
+ObservationShares CountObservationShares(const Reconstruction& tracks, const std::vector<Triplet>& triplets) {
+  ObservationShares shares;
+  for (const Triplet& t : triplets)
+    for (const uint64_t tid : t.track_ids) {
+      const auto pit = tracks.points3D.find(tid);
+      if (pit == tracks.points3D.end()) continue;
+      for (int k = 0; k < 3; ++k)
+        for (const TrackElement& el : pit->second.track)
+          if (el.image_id == t.image_ids[k]) {
+            ++shares[{el.image_id, tid}];
+            break;  // an image seeing the track twice: its first observation (BuildLocalBundleProblem)
+          }
+    }
+  return shares;
+}
+
 LocalHessianResult ComputeLocalHessians(const Reconstruction& tracks, const std::vector<Triplet>& triplets,
                                         const LocalHessianOptions& options) {
+  return ComputeLocalHessians(tracks, triplets, options, nullptr);
+}
+
+LocalHessianResult ComputeLocalHessians(const Reconstruction& tracks, const std::vector<Triplet>& triplets,
+                                        const LocalHessianOptions& options, const ObservationShares* given) {
   LocalHessianResult result;
   result.hessians.resize(triplets.size());
   std::unique_ptr<tbb::global_control> limit;
   if (options.num_threads > 0)
     limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, options.num_threads);
+  ObservationShares counted;
+  if (options.shared_observation_weighting && !given) counted = CountObservationShares(tracks, triplets);
+  const ObservationShares* sp = !options.shared_observation_weighting ? nullptr : given ? given : &counted;
   // Each triplet writes only its own slot: the result does not depend on scheduling.
   tbb::parallel_for(size_t(0), triplets.size(), [&](size_t i) {
-    result.hessians[i] = ComputeLocalHessian(tracks, triplets[i], static_cast<int>(i), options);
+    result.hessians[i] = ComputeLocalHessian(tracks, triplets[i], static_cast<int>(i), options, sp);
   });
   for (const LocalHessian& h : result.hessians) ++result.status_counts[static_cast<int>(h.status)];
   std::string rejected;

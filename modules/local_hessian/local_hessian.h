@@ -13,6 +13,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -53,6 +54,9 @@ enum class PriorShape {
 };
 NLOHMANN_JSON_SERIALIZE_ENUM(PriorShape, {{PriorShape::kIsotropic, "isotropic"}, {PriorShape::kSimilarity, "similarity"}})
 
+// Number of triplets that use each observation (image id, track id).
+using ObservationShares = std::map<std::pair<uint32_t, uint64_t>, int>;
+
 struct LocalHessianOptions {
   // Levenberg-Marquardt iterations of the local BA (paper: a single iteration from the
   // triplet BA's solution). More iterations converge x0 further.
@@ -89,11 +93,16 @@ struct LocalHessianOptions {
   double min_triangulation_angle_deg = 0.0;
   // TBB threads over triplets; 0 = all available.
   int num_threads = 0;
+  // Weight each observation's squared residual by 1 / (number of triplets using it), on top
+  // of the attenuation: an observation shared by n triplets then counts once over the whole
+  // triplet set, as in a point-based BA, instead of n times (sequences with many triplets per
+  // image pair). Off: the paper's attenuation only.
+  bool shared_observation_weighting = false;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(LocalHessianOptions, max_iterations, attenuation_q, huber_px,
                                                 max_reprojection_px, min_points, prior_shape, prior_relative,
                                                 prior_scale_aware, prior_placement, min_eigenvalue_ratio,
-                                                min_triangulation_angle_deg, num_threads)
+                                                min_triangulation_angle_deg, num_threads, shared_observation_weighting)
 
 enum class LocalHessianStatus {
   kOk = 0,
@@ -118,13 +127,18 @@ struct LocalHessian {
   // eigenvalues (negative ones clamped to 0), ascending.
   Matrix18d V = Matrix18d::Zero();
   Vector18d D = Vector18d::Zero();
-  // Reduced gradient g of paper eq. 3 at x0 (diagnostic: how converged x0 is; the global
-  // cost omits it).
+  // Reduced gradient g of paper eq. 3 at local_poses (same chart and weights as h).
   Vector18d reduced_gradient = Vector18d::Zero();
+  // Minimiser of the quadratic model of paper eq. 3 relative to local_poses: -h^-1 g, in
+  // h's chart. The global residual is W_s (x_s - x0_s - newton_step), i.e. it keeps the
+  // gradient term that paper eq. 5 drops (zero when the local BA converged; not zero when h
+  // is re-linearised away from the triplet's optimum, global_ba.h "relinearization").
+  Vector18d newton_step = Vector18d::Zero();
   // The gauge prior added to h (h = h_points + prior) and its mu.
   Matrix18d prior = Matrix18d::Zero();
   double prior_mu = 0.0;
-  // Weight of each observation's squared residual, gamma / M (1 if disabled).
+  // Weight of each observation's squared residual, gamma / M (1 if disabled); with
+  // shared_observation_weighting its mean over the triplet's observations.
   double observation_weight = 1.0;
   // Median point depth L in the local frame (the length of the scale-aware chart).
   double depth_scale = 1.0;
@@ -145,13 +159,21 @@ struct LocalHessianResult {
 // {status name: count} over every status, "ok" included (report.json records).
 nlohmann::json LocalHessianStatusCounts(const LocalHessianResult& result);
 
-// One triplet (paper eqs. 1-3 and the decomposition of eq. 5).
+// One triplet (paper eqs. 1-3 and the decomposition of eq. 5). `shares` (for
+// shared_observation_weighting; nullptr: weight 1) counts the triplets using each observation.
 LocalHessian ComputeLocalHessian(const Reconstruction& tracks, const Triplet& triplet, int triplet_index,
-                                 const LocalHessianOptions& options);
+                                 const LocalHessianOptions& options, const ObservationShares* shares = nullptr);
+
+// The ObservationShares of a triplet set: for every triplet, track and view that observes it.
+ObservationShares CountObservationShares(const Reconstruction& tracks, const std::vector<Triplet>& triplets);
 
 // Every triplet, in parallel (TBB; results do not depend on the thread count). Logs the
 // counts of rejected triplets per reason.
 LocalHessianResult ComputeLocalHessians(const Reconstruction& tracks, const std::vector<Triplet>& triplets,
                                         const LocalHessianOptions& options);
+// The same with the observation shares given (shared_observation_weighting counted over
+// another triplet set, e.g. all triplets when re-computing a subset); nullptr: counted here.
+LocalHessianResult ComputeLocalHessians(const Reconstruction& tracks, const std::vector<Triplet>& triplets,
+                                        const LocalHessianOptions& options, const ObservationShares* shares);
 
 }  // namespace pgba

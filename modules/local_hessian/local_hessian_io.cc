@@ -53,6 +53,7 @@ void WriteLocalHessians(const fs::path& path, const Reconstruction& tracks, cons
       e["num_observations"] = lh.num_observations;
       e["rms_px"] = lh.rms_px;
       e["eigenvalue_ratio"] = lh.eigenvalue_ratio;
+      e["newton_step"] = std::vector<double>(lh.newton_step.data(), lh.newton_step.data() + 18);
     }
     entries.push_back(std::move(e));
   }
@@ -111,6 +112,9 @@ LocalHessianResult ReadLocalHessians(const fs::path& path, const Reconstruction&
       lh.num_observations = static_cast<int>(reader.Integer(reader.Field(e, "num_observations", where), where));
       lh.rms_px = reader.Number(reader.Field(e, "rms_px", where), where);
       lh.eigenvalue_ratio = reader.Number(reader.Field(e, "eigenvalue_ratio", where), where);
+      // Optional (files written before it existed: 0, the paper's eq. 5 without gradient).
+      if (e.contains("newton_step"))
+        lh.newton_step = reader.Numbers<18>(e["newton_step"], where + ".newton_step");
     }
     ++result.status_counts[static_cast<int>(lh.status)];
     result.hessians.push_back(lh);

@@ -65,7 +65,7 @@ ReducedCameraSystem ReducedCameraMatrix(const LocalBundleProblem& p) {
       // IRLS weight of Huber: rho'(s) = 1 inside, delta / |r| outside (rho'' <= 0 there, so
       // Ceres' corrector reduces to this too), times the attenuation.
       const double s = r.squaredNorm();
-      const double w = p.observation_weight * (s <= huber2 ? 1.0 : p.huber_px / std::sqrt(s));
+      const double w = p.observation_weight * o.weight * (s <= huber2 ? 1.0 : p.huber_px / std::sqrt(s));
       const int c = 6 * o.view;
       out.h.block<6, 6>(c, c) += w * Jc.transpose() * Jc;
       out.g.segment<6>(c) += w * Jc.transpose() * r;

@@ -1,5 +1,6 @@
 #include "mapper/pose_refinement.h"
 
+#include <cmath>
 #include <string>
 
 #include "pgba/scene/triangulate_model.h"
@@ -118,17 +119,22 @@ RefinementResult RefinePointBased(const Reconstruction& tracks, const std::map<u
   return r;
 }
 
-RefinementResult RefineWithTriplets(RefinementMethod method, const std::map<uint32_t, Pose>& initial,
-                                    const std::vector<Triplet>& triplets, const PreparedHessians& hessians,
-                                    const GlobalBAOptions& options, bool record_history, const GcpInput* gcps) {
+RefinementResult RefineWithTriplets(RefinementMethod method, const Reconstruction& tracks,
+                                    const std::map<uint32_t, Pose>& initial, const std::vector<Triplet>& triplets,
+                                    const PreparedHessians& hessians, const RefinementOptions& options,
+                                    bool record_history, const GcpInput* gcps) {
   RefinementResult r;
   r.prepare_seconds = hessians.seconds;
   ResetPeakRss();
   GlobalBAIterationCallback callback;
   if (record_history) callback = [&r](const GlobalBAIteration& it) { r.history.push_back(*it.poses); };
-  const GlobalBAResult g = method == RefinementMethod::kPointless
-                               ? PointlessGlobalBA(initial, triplets, hessians.result.hessians, options, callback, gcps)
-                               : AveragingGlobalBA(initial, triplets, hessians.result.hessians, options, callback, gcps);
+  // Pointless: with the local Hessians re-linearised at the solution where the models
+  // disagree (global_ba.h); their passes count as adjustment time.
+  const GlobalBAResult g =
+      method == RefinementMethod::kPointless
+          ? RelinearizedGlobalBA(tracks, options.local_hessian, initial, triplets, hessians.result.hessians,
+                                 options.global_ba, callback, gcps)
+          : AveragingGlobalBA(initial, triplets, hessians.result.hessians, options.global_ba, callback, gcps);
   r.adjust_seconds = g.summary.seconds;
   r.peak_rss_mb = std::max(PeakRssMb(), hessians.peak_rss_mb);
   r.poses = g.poses;
@@ -141,6 +147,13 @@ RefinementResult RefineWithTriplets(RefinementMethod method, const std::map<uint
                {"rounds", g.summary.rounds},
                {"fitting_scale", g.summary.robust_scale},
                {"local_hessians", LocalHessianStatusCounts(hessians.result)}};
+  if (method == RefinementMethod::kPointless) {
+    auto number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
+    r.details["misfit_ratio_initial"] = number(g.summary.misfit_ratio_initial);
+    r.details["misfit_ratio"] = number(g.summary.misfit_ratio);
+    r.details["relinearizations"] = g.summary.relinearizations;
+    r.details["relinearization_seconds"] = g.summary.relinearization_seconds;
+  }
   if (gcps) r.details["gcp_residuals"] = g.summary.num_gcp_residuals;
   return r;
 }
@@ -156,7 +169,7 @@ RefinementResult RefinePoses(RefinementMethod method, const Reconstruction& trac
     r = RefinePointBased(tracks, initial, options.point_based, record_history);
   } else {
     if (!hessians) throw std::invalid_argument("RefinePoses: local hessians are required for this method");
-    r = RefineWithTriplets(method, initial, triplets, *hessians, options.global_ba, record_history, gcps);
+    r = RefineWithTriplets(method, tracks, initial, triplets, *hessians, options, record_history, gcps);
   }
   r.method = method;
   PGBA_LOG_INFO << RefinementMethodName(method) << ": " << r.poses.size() << " poses, " << r.num_params

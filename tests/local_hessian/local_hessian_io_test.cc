@@ -76,6 +76,7 @@ TEST(LocalHessianIo, RoundTripKeepsHessiansAndRebuildsTheDecomposition) {
     EXPECT_LT((W.transpose() * W - a.h).norm(), 1e-9 * a.h.norm()) << i;
     EXPECT_EQ(a.observation_weight, b.observation_weight);
     EXPECT_EQ(a.depth_scale, b.depth_scale);
+    EXPECT_EQ(a.newton_step, b.newton_step) << i;
     for (int k = 0; k < 3; ++k) EXPECT_LT((a.local_poses[k].C() - b.local_poses[k].C()).norm(), 1e-12);
   }
   fs::remove(p);
@@ -110,6 +111,26 @@ TEST(LocalHessianIo, ForeignOrDamagedFilesAreErrorsNamingTheEntry) {
   EXPECT_NE(ErrorOf(p, f, f.triplets).find("version"), std::string::npos);
   with("\"status\":\"ok\"", "\"status\":\"fine\"");
   EXPECT_NE(ErrorOf(p, f, f.triplets).find("unknown status"), std::string::npos);
+  fs::remove(p);
+}
+
+// newton_step (-h^-1 g, global residual offset) is stored; files from before it existed
+// read as zero (paper eq. 5), a malformed one is an error naming the entry.
+TEST(LocalHessianIo, NewtonStepIsOptionalOnReading) {
+  Fixture f = Make();
+  f.result.hessians[0].newton_step.setConstant(1e-6);
+  const fs::path p = fs::temp_directory_path() / "pgba_lh_newton.json";
+  WriteLocalHessians(p, f.rec, f.result);
+  EXPECT_EQ(ReadLocalHessians(p, f.rec, f.triplets).hessians[0].newton_step, f.result.hessians[0].newton_step);
+  nlohmann::json j = nlohmann::json::parse(ReadAll(p));
+  for (nlohmann::json& e : j["hessians"]) e.erase("newton_step");
+  std::ofstream(p) << j.dump();
+  const LocalHessianResult old = ReadLocalHessians(p, f.rec, f.triplets);
+  EXPECT_EQ(old.num_ok(), f.result.num_ok());
+  EXPECT_TRUE(old.hessians[0].newton_step.isZero(0.0));
+  j["hessians"][0]["newton_step"] = {1.0, 2.0};
+  std::ofstream(p) << j.dump();
+  EXPECT_NE(ErrorOf(p, f, f.triplets).find("hessians[0].newton_step"), std::string::npos);
   fs::remove(p);
 }
 

@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
+#include <cstdio>
 #include <random>
 
 #include "modules/local_hessian/local_bundle.h"
@@ -34,7 +36,8 @@ double CostWithPointsOptimised(const LocalBundleProblem& p, const std::array<Pos
   for (const LocalObservation& o : p.observations)
     problem.AddResidualBlock(
         ReprojectionError::Create(p.cameras[o.view], blocks[o.view].R0, o.pixel),
-        new ceres::ScaledLoss(new ceres::HuberLoss(p.huber_px), p.observation_weight, ceres::TAKE_OWNERSHIP),
+        new ceres::ScaledLoss(new ceres::HuberLoss(p.huber_px), p.observation_weight * o.weight,
+                              ceres::TAKE_OWNERSHIP),
         blocks[o.view].x.data(), points[o.point].data());
   ceres::Solver::Options so;
   so.linear_solver_type = ceres::DENSE_SCHUR;
@@ -316,6 +319,94 @@ TEST(LocalHessian, ParallelResultIsDeterministic) {
   for (size_t i = 0; i < triplets.size(); ++i) {
     EXPECT_EQ(par.hessians[i].h, seq.hessians[i].h);
     EXPECT_EQ(par.hessians[i].triplet_index, static_cast<int>(i));
+  }
+}
+
+// The Newton step -h^-1 g (paper eq. 3) of the quadratic model: about zero at a converged
+// local BA; from a linearisation point away from the optimum (h and g there, no iteration)
+// it lands where the local BA converges, up to second order.
+TEST(LocalHessian, NewtonStepPointsToTheTripletOptimum) {
+  RingSceneOptions so;
+  so.num_points = 800;
+  so.seed = 21;
+  const Reconstruction rec = MakeRingScene(so);
+  std::mt19937_64 rng(22);
+  Triplet t = MakeTriplet(rec, {2, 3, 5}, rng);
+  LocalHessianOptions converge;
+  converge.max_iterations = 50;
+  const LocalHessian opt = ComputeLocalHessian(rec, t, 0, converge);
+  ASSERT_EQ(opt.status, LocalHessianStatus::kOk);
+  const Matrix18d h0 = opt.h - opt.prior;
+  auto whitened = [&](const Vector18d& v) { return std::sqrt(v.dot(h0 * v) / opt.observation_weight); };
+  EXPECT_LT(whitened(opt.newton_step), 1e-2);  // px-units: converged
+
+  // Linearise at the optimum moved along informative directions (0.02 deg, 1% of the baseline).
+  Triplet moved = t;
+  std::normal_distribution<double> n(0.0, 1.0);
+  const double baseline = (opt.local_poses[1].C() - opt.local_poses[0].C()).norm();
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d w(n(rng), n(rng), n(rng)), d(n(rng), n(rng), n(rng));
+    moved.local_poses[k] = Pose::FromRC(opt.local_poses[k].R() * ExpSO3(3.5e-4 * w.normalized()),
+                                        opt.local_poses[k].C() + 0.01 * baseline * d.normalized());
+  }
+  LocalHessianOptions at_point;
+  at_point.max_iterations = 0;
+  const LocalHessian lin = ComputeLocalHessian(rec, moved, 0, at_point);
+  ASSERT_EQ(lin.status, LocalHessianStatus::kOk);
+  std::array<Pose, 3> stepped;
+  for (int k = 0; k < 3; ++k) {
+    const Pose& y = lin.local_poses[k];
+    stepped[k] = Pose::FromRC(y.R() * ExpSO3(lin.newton_step.segment<3>(6 * k + 3)),
+                              y.C() + lin.newton_step.segment<3>(6 * k));
+  }
+  // Excess of the point-based cost (points re-optimised) over the optimum's.
+  Triplet t0 = t;
+  t0.local_poses = opt.local_poses;
+  LocalBundleProblem p;
+  ASSERT_EQ(BuildLocalBundleProblem(rec, t0, converge, &p), LocalHessianStatus::kOk);
+  const double at_opt = CostWithPointsOptimised(p, opt.local_poses);
+  const double excess_moved = CostWithPointsOptimised(p, lin.local_poses) - at_opt;
+  const double excess_stepped = CostWithPointsOptimised(p, stepped) - at_opt;
+  std::printf("cost excess over the optimum: linearisation point %.4g, after the Newton step %.4g\n", excess_moved,
+              excess_stepped);
+  EXPECT_GT(excess_moved, 1e-3);
+  EXPECT_LT(excess_stepped, 0.02 * excess_moved);
+  EXPECT_GT(whitened(lin.newton_step), 10.0 * whitened(opt.newton_step));
+}
+
+// shared_observation_weighting: each observation weighs 1 / (number of triplets using it).
+TEST(LocalHessian, SharedObservationWeightingCountsTheTripletsOfEachObservation) {
+  RingSceneOptions so;
+  so.num_images = 16;
+  so.num_points = 1500;
+  so.seed = 23;
+  const Reconstruction rec = MakeRingScene(so);
+  std::mt19937_64 rng(24);
+  const std::vector<Triplet> triplets = testing::MakeRingTriplets(rec, 4, false, rng);
+  const ObservationShares shares = CountObservationShares(rec, triplets);
+  // Brute force for every (image, track) of the triplets.
+  for (const auto& [key, count] : shares) {
+    int expected = 0;
+    for (const Triplet& t : triplets) {
+      const bool has_image = std::find(t.image_ids.begin(), t.image_ids.end(), key.first) != t.image_ids.end();
+      const bool has_track = std::find(t.track_ids.begin(), t.track_ids.end(), key.second) != t.track_ids.end();
+      expected += has_image && has_track;
+    }
+    ASSERT_EQ(count, expected);
+  }
+  LocalHessianOptions shared;
+  shared.shared_observation_weighting = true;
+  const LocalHessianResult plain = ComputeLocalHessians(rec, triplets, LocalHessianOptions());
+  const LocalHessianResult weighted = ComputeLocalHessians(rec, triplets, shared);
+  const LocalHessianResult given = ComputeLocalHessians(rec, triplets, shared, &shares);
+  EXPECT_GE(weighted.num_ok(), static_cast<int>(triplets.size()) / 2);
+  for (size_t i = 0; i < triplets.size(); ++i) {
+    ASSERT_EQ(weighted.hessians[i].status, plain.hessians[i].status);
+    if (plain.hessians[i].status != LocalHessianStatus::kOk) continue;
+    // Interior triplets share their observations with others: lighter than unshared.
+    EXPECT_LT(weighted.hessians[i].observation_weight, plain.hessians[i].observation_weight);
+    EXPECT_GT(weighted.hessians[i].observation_weight, plain.hessians[i].observation_weight / 6.0);
+    EXPECT_EQ(weighted.hessians[i].h, given.hessians[i].h);
   }
 }
 

@@ -30,6 +30,11 @@ struct RingSceneOptions {
   double arc_fraction = 1.0;
   double noise_px = 0.5;
   double outlier_fraction = 0.0;
+  // Focal length (pixels, 1280 x 960 images): 800 is a wide lens; tens of thousands with a
+  // ring radius far beyond the object radius make a telephoto ring (near-orthographic views).
+  double focal_px = 800.0;
+  // Standard deviation of the aim point around the centre (scene units).
+  double target_jitter = 0.3;
   uint64_t seed = 7;
 };
 
@@ -55,12 +60,13 @@ inline Reconstruction MakeRingScene(const RingSceneOptions& o) {
   cam.model = CameraModel::kPinhole;
   cam.width = 1280;
   cam.height = 960;
-  cam.params = {800.0, 800.0, 640.0, 480.0};
+  cam.params = {o.focal_px, o.focal_px, 640.0, 480.0};
   rec.cameras[1] = cam;
   for (int i = 0; i < o.num_images; ++i) {
     const double a = 2.0 * M_PI * o.arc_fraction * i / o.num_images;
     const Eigen::Vector3d C(o.ring_radius * std::cos(a), o.ring_radius * std::sin(a), 0.8 * std::sin(3.0 * a));
-    const Eigen::Vector3d target(0.3 * normal(rng), 0.3 * normal(rng), 0.3 * normal(rng));
+    const Eigen::Vector3d target =
+        o.target_jitter * Eigen::Vector3d(normal(rng), normal(rng), normal(rng));
     Image im;
     im.image_id = static_cast<uint32_t>(i + 1);
     im.name = "img" + std::to_string(i + 1) + ".jpg";
