@@ -190,6 +190,17 @@ void PrintBenchmarkTables(const BenchmarkResult& result, std::ostream& out) {
                            (pb->refinement.adjust_seconds + pb->refinement.prepare_seconds))
         << "\n";
   }
+  if (pl && pl->refinement.details.contains("relinearizations")) {
+    const nlohmann::json& d = pl->refinement.details;
+    auto number = [](const nlohmann::json& v) { return v.is_number() ? v.get<double>() : kNaN; };
+    out << "pointless: local models' misfit " << FormatNumber("%.3f", number(d["misfit_ratio_initial"]))
+        << (d["relinearizations"].get<int>() > 0
+                ? " -> " + FormatNumber("%.3f", number(d["misfit_ratio"])) + " after " +
+                      std::to_string(d["relinearizations"].get<int>()) + " re-linearisations (" +
+                      FormatNumber("%.2f", number(d["relinearization_seconds"])) + " s of local hessian passes)"
+                : " (consistent: no re-linearisation)")
+        << "\n";
+  }
   if (!result.sweep.empty()) {
     out << "\nOutlier sweep (final sigma, px)\n";
     std::snprintf(line, sizeof(line), "%-10s %8s %9s %12s %12s\n", "fraction", "pairs", "triplets", "pointless",

@@ -81,6 +81,13 @@ TEST_P(BenchmarkOnScene, PointlessReachesPointBasedSigmaWithFarFewerUnknowns) {
                             "peak_rss_mb", "rot_err_deg_median", "convergence"})
       EXPECT_TRUE(j["methods"][name].contains(key)) << name << "." << key;
   EXPECT_EQ(j["methods"]["pointless"]["params"].get<int>(), pl.refinement.num_params);
+  // Wide-angle scenes: the local models agree with their consensus, no re-linearisation
+  // (global_ba.h), so the adjustment time is that of a single pointless solve.
+  const nlohmann::json& d = j["methods"]["pointless"]["details"]["method"];
+  ASSERT_TRUE(d.contains("misfit_ratio_initial"));
+  EXPECT_LT(d["misfit_ratio_initial"].get<double>(), 1.0);
+  EXPECT_EQ(d["relinearizations"].get<int>(), 0);
+  EXPECT_NE(table.str().find("no re-linearisation"), std::string::npos);
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenarios, BenchmarkOnScene,
