@@ -54,29 +54,6 @@ std::map<uint32_t, Pose> PosesOf(const Reconstruction& rec) {
   return poses;
 }
 
-// Removes the observations whose reprojection error exceeds max_px (and the points left
-// with fewer than two); returns the number of observations removed.
-size_t FilterObservations(double max_px, Reconstruction* rec) {
-  size_t removed = 0;
-  std::vector<uint64_t> emptied;
-  for (auto& [pid, point] : rec->points3D) {
-    const std::vector<double> errors = ObservationErrorsPx(*rec, pid);
-    std::vector<TrackElement> kept;
-    for (size_t i = 0; i < point.track.size(); ++i) {
-      if (errors[i] <= max_px) {
-        kept.push_back(point.track[i]);
-      } else {
-        rec->images.at(point.track[i].image_id).points2D[point.track[i].point2D_idx].point3D_id = kNoPoint3D;
-        ++removed;
-      }
-    }
-    point.track = std::move(kept);
-    if (point.track.size() < 2) emptied.push_back(pid);
-  }
-  for (uint64_t pid : emptied) rec->DeletePoint3D(pid);
-  return removed;
-}
-
 RefinementResult RefinePointBased(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
                                   const PointBasedOptions& options, bool record_history) {
   RefinementResult r;

@@ -36,29 +36,6 @@ SyntheticScene Generate(SyntheticScenario scenario, int num_images = 0) {
   return GenerateSyntheticScene(o);
 }
 
-// Removes observations above max_px (and points left with < 2), as the benchmark's
-// filter-and-refine does (modules/mapper/pose_refinement.cc).
-size_t Filter(double max_px, Reconstruction* rec) {
-  size_t removed = 0;
-  std::vector<uint64_t> emptied;
-  for (auto& [pid, point] : rec->points3D) {
-    const std::vector<double> errors = ObservationErrorsPx(*rec, pid);
-    std::vector<TrackElement> kept;
-    for (size_t i = 0; i < point.track.size(); ++i) {
-      if (errors[i] <= max_px) {
-        kept.push_back(point.track[i]);
-      } else {
-        rec->images.at(point.track[i].image_id).points2D[point.track[i].point2D_idx].point3D_id = kNoPoint3D;
-        ++removed;
-      }
-    }
-    point.track = std::move(kept);
-    if (point.track.size() < 2) emptied.push_back(pid);
-  }
-  for (uint64_t pid : emptied) rec->DeletePoint3D(pid);
-  return removed;
-}
-
 struct Outcome {
   bool converged = true;
   int iterations = 0;
@@ -77,14 +54,14 @@ Outcome RunPointBased(const SyntheticScene& s, const std::map<uint32_t, Pose>& s
   o.loss = loss;
   o.log_progress = std::getenv("PGBA_BA_LOG") != nullptr;  // Ceres progress, for diagnosis
   Outcome out;
-  if (prefilter) std::printf("  gross outliers removed before the first pass: %zu\n", Filter(4.0, &model));
+  if (prefilter) std::printf("  gross outliers removed before the first pass: %zu\n", FilterObservations(4.0, &model));
   for (int pass = 0; pass < 2; ++pass) {
     const BundleAdjustmentSummary sum = BundleAdjust(problem, o, &model);
     EXPECT_TRUE(sum.usable) << sum.message;
     out.converged = out.converged && sum.converged;
     out.iterations += sum.iterations;
     std::printf("  %s pass %d: %d iterations, %s\n", loss.c_str(), pass, sum.iterations, sum.message.c_str());
-    if (pass == 0 && Filter(4.0, &model) == 0) break;
+    if (pass == 0 && FilterObservations(4.0, &model) == 0) break;
   }
   out.sigma = EvaluateSigma(s.input, PosesOf(model)).rms;
   const GroundTruthErrors e = CompareToGroundTruth(model, s.gt);

@@ -253,4 +253,25 @@ std::vector<double> ObservationErrorsPx(const Reconstruction& rec, uint64_t poin
   return errors;
 }
 
+size_t FilterObservations(double max_px, Reconstruction* rec) {
+  size_t removed = 0;
+  std::vector<uint64_t> emptied;
+  for (auto& [pid, point] : rec->points3D) {
+    const std::vector<double> errors = ObservationErrorsPx(*rec, pid);
+    std::vector<TrackElement> kept;
+    for (size_t i = 0; i < point.track.size(); ++i) {
+      if (errors[i] <= max_px) {
+        kept.push_back(point.track[i]);
+      } else {
+        rec->images.at(point.track[i].image_id).points2D[point.track[i].point2D_idx].point3D_id = kNoPoint3D;
+        ++removed;
+      }
+    }
+    point.track = std::move(kept);
+    if (point.track.size() < 2) emptied.push_back(pid);
+  }
+  for (uint64_t pid : emptied) rec->DeletePoint3D(pid);
+  return removed;
+}
+
 }  // namespace pgba

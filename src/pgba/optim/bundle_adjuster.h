@@ -110,4 +110,9 @@ void ChooseGauge(const Reconstruction& rec, BundleAdjustmentProblem* problem);
 // current poses and point; infinity for a point behind the camera.
 std::vector<double> ObservationErrorsPx(const Reconstruction& rec, uint64_t point3D_id);
 
+// Filter step of filter-and-refine: removes the observations whose ObservationErrorsPx
+// exceeds max_px (unlinking them from their image) and the points left with fewer than two;
+// returns the number of observations removed.
+size_t FilterObservations(double max_px, Reconstruction* rec);
+
 }  // namespace pgba
