@@ -106,7 +106,8 @@ bool Precheck(const TrackIndex& index, const TripletOptions& options, Candidate*
   return true;
 }
 
-// Open triplets that can join what the estimated triplets leave apart: paths a - b - c of
+// Open triplets that can join what the estimated triplets leave apart (none if `kept` forms
+// one component covering every image of the view graph): paths a - b - c of
 // two verified pairs, (a, c) not a pair, whose two pairs lie in different components of the
 // triplet graph of `kept`, or one in a component and the other in no triplet, or both in no
 // triplet with an image of the path uncovered. Ascending ids, lexicographic order.
@@ -128,6 +129,7 @@ std::vector<std::array<uint32_t, 3>> BridgingPaths(const std::vector<TwoViewGeom
     neighbours[g.image_id1].push_back(g.image_id2);
     neighbours[g.image_id2].push_back(g.image_id1);
   }
+  if (num_components <= 1 && covered.size() >= neighbours.size()) return {};  // nothing to bridge
   auto label_or = [&](uint32_t a, uint32_t b) {
     auto it = label.find(PairKey(a, b));
     return it == label.end() ? -1 : it->second;
@@ -276,24 +278,16 @@ std::vector<Triplet> BuildTriplets(const Reconstruction& tracks, const std::vect
       EstimateAll(index, todo, options, round, &candidates, &stats);
     }
   };
-  auto kept_ids = [&] {
-    std::vector<std::array<uint32_t, 3>> ids;
-    for (size_t i : selected)
-      if (candidates[i].state == State::kEstimated) ids.push_back(candidates[i].ids);
-    return ids;
-  };
   select_and_estimate();
 
   // Open triplets where the triangles leave the graph in pieces or an image uncovered.
   if (options.open_triplets) {
-    const std::vector<std::array<uint32_t, 3>> kept = kept_ids();
-    std::set<uint32_t> covered_by_kept;
-    for (const auto& t : kept) covered_by_kept.insert(t.begin(), t.end());
-    int pieces = 0;
-    TripletGraphComponents(kept, &pieces);
-    if (pieces > 1 || covered_by_kept.size() < graph_images.size()) {
-      const std::vector<std::array<uint32_t, 3>> paths = BridgingPaths(pairs, kept);
-      stats.open_candidates = static_cast<int>(paths.size());
+    std::vector<std::array<uint32_t, 3>> kept;
+    for (size_t i : selected)
+      if (candidates[i].state == State::kEstimated) kept.push_back(candidates[i].ids);
+    const std::vector<std::array<uint32_t, 3>> paths = BridgingPaths(pairs, kept);
+    stats.open_candidates = static_cast<int>(paths.size());
+    if (!paths.empty()) {
       add_candidates(paths);
       select_and_estimate();
     }
