@@ -131,6 +131,7 @@ FeatureExtractionResult ExtractFeatures(const std::string& images_dir, const Cal
   // Warnings and ids in name order, independent of thread scheduling.
   FeatureExtractionResult result;
   result.index.cameras = catalog.cameras;
+  result.calibration_source = catalog.calibration_source;
   for (size_t i = 0; i < n; ++i) {
     const std::string file = (fs::path(images_dir) / catalog.files[i]).string();
     if (!cache_warnings[i].empty()) PGBA_LOG_WARN << cache_warnings[i];

@@ -34,6 +34,7 @@ struct FeatureExtractionResult {
   int num_extracted = 0;              // images processed in this run
   int num_cached = 0;                 // images whose cached features were reused
   double megapixels_extracted = 0.0;  // full-resolution megapixels of the extracted images
+  std::string calibration_source;     // ImageCatalog::calibration_source
   double seconds = 0.0;               // wall time of the stage
 };
 

@@ -173,16 +173,4 @@ ImageCatalog BuildImageCatalog(const std::string& images_dir, const CalibrationI
   return catalog;
 }
 
-std::string CalibrationSource(const std::string& images_dir, const CalibrationInput& calibration,
-                              const FeatureIndex& index) {
-  const fs::path dir = fs::weakly_canonical(images_dir);
-  const std::string file = FindCalibration(dir, calibration.cameras_path);
-  if (!file.empty()) return "file: " + file;
-  bool any_exif = false, any_default = false;
-  for (const IndexedImage& im : index.images)
-    (ExifFocalPrior((dir / im.name).string(), im.width, im.height).source == FocalSource::kDefault ? any_default
-                                                                                                   : any_exif) = true;
-  return PriorSourceName(any_exif, any_default);
-}
-
 }  // namespace pgba

@@ -52,9 +52,4 @@ struct ImageCatalog {
 // skips them with its usual reason ("not an image file", ...), as with a calibration file.
 ImageCatalog BuildImageCatalog(const std::string& images_dir, const CalibrationInput& calibration);
 
-// The calibration_source of BuildImageCatalog(images_dir, calibration), for the report, from
-// the images the features stage accepted (re-reading their EXIF, not decoding them).
-std::string CalibrationSource(const std::string& images_dir, const CalibrationInput& calibration,
-                              const FeatureIndex& index);
-
 }  // namespace pgba

@@ -193,22 +193,12 @@ TEST_F(ExifFocalTest, CatalogWithoutCalibrationUsesExif) {
   EXPECT_EQ(catalog.camera_of.size(), 3u);
   EXPECT_EQ(cam.Validate(), "");
 
-  // The report's source, from the images the features stage would accept.
-  FeatureIndex index;
-  index.cameras = catalog.cameras;
-  for (size_t i = 0; i < 3; ++i) {
-    IndexedImage im;
-    im.image_id = static_cast<uint32_t>(i + 1);
-    im.name = images[i].filename().string();
-    im.camera_id = 1;
-    im.width = 2832;
-    im.height = 2128;
-    index.images.push_back(im);
-  }
-  EXPECT_EQ(CalibrationSource((root_ / "images").string(), {}, index), "exif");
+  // The report's source (the features stage passes the catalog's on): a cameras.txt found
+  // next to the images takes over from EXIF.
   std::ofstream(root_ / "cameras.txt") << "1 PINHOLE 2832 2128 2905.88 2905.88 1416 1064\n";
-  EXPECT_EQ(CalibrationSource((root_ / "images").string(), {}, index), "file: " + (root_ / "cameras.txt").string());
-  EXPECT_EQ(BuildImageCatalog((root_ / "images").string(), {}).cameras.at(1).params[0], 2905.88);
+  const ImageCatalog with_file = BuildImageCatalog((root_ / "images").string(), {});
+  EXPECT_EQ(with_file.calibration_source, "file: " + (root_ / "cameras.txt").string());
+  EXPECT_EQ(with_file.cameras.at(1).params[0], 2905.88);
 }
 
 TEST_F(ExifFocalTest, CatalogGroupsPriorsBySizeAndFocal) {
