@@ -41,26 +41,6 @@ Reconstruction MakeLocalModel(const TrackIndex& index, const std::array<uint32_t
   return rec;
 }
 
-// Drops observations reprojecting farther than `threshold_px` and the tracks left with
-// fewer than two; returns the number of observations dropped.
-int RemoveOutlierObservations(double threshold_px, Reconstruction* rec) {
-  int removed = 0;
-  for (auto it = rec->points3D.begin(); it != rec->points3D.end();) {
-    const std::vector<double> err = ObservationErrorsPx(*rec, it->first);
-    std::vector<TrackElement> kept;
-    for (size_t k = 0; k < err.size(); ++k)
-      if (err[k] <= threshold_px) kept.push_back(it->second.track[k]);
-    removed += static_cast<int>(err.size() - kept.size());
-    if (kept.size() < 2) {
-      it = rec->points3D.erase(it);
-    } else {
-      it->second.track = std::move(kept);
-      ++it;
-    }
-  }
-  return removed;
-}
-
 double Median(std::vector<double> v) {
   if (v.empty()) return 0.0;
   std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
@@ -218,7 +198,7 @@ TripletEstimate EstimateTriplet(const TrackIndex& index, const std::array<uint32
     // (weak geometry: the cost crawls along a flat valley); re-solving after outlier removal
     // would only spend up to three more budgets on a triplet that is rejected in the end.
     if (!summary.usable || !summary.converged) return reject(TripletRejection::kNotConverged);
-    if (round == 3 || RemoveOutlierObservations(options.outlier_threshold_px, &local) == 0) break;
+    if (round == 3 || FilterObservations(options.outlier_threshold_px, &local) == 0) break;
     if (static_cast<int>(local.points3D.size()) < options.min_tracks) return reject(TripletRejection::kTooFewTracks);
   }
   PGBA_LOG_DEBUG << "triplet " << ids[0] << " " << ids[1] << " " << ids[2] << ": BA " << out.ba_iterations
