@@ -72,18 +72,20 @@ RefinementResult RefinePointBased(const Reconstruction& tracks, const std::map<u
     };
   }
   r.num_params = 6 * static_cast<int>(model.images.size()) + 3 * static_cast<int>(model.points3D.size());
+  const bool two_passes = options.filter_max_error_px > 0;
+  BundleAdjusterOptions first_pass = options.bundle;
+  if (two_passes && !options.first_pass_loss.empty()) first_pass.loss = options.first_pass_loss;
   Timer adjust;
-  const BundleAdjustmentSummary first = BundleAdjust(problem, options.bundle, &model);
+  const BundleAdjustmentSummary first = BundleAdjust(problem, first_pass, &model);
   if (!first.usable) throw InputError("point-based BA: solver failure: " + first.message);
   r.iterations = first.iterations;
   size_t filtered = 0;
-  if (options.filter_max_error_px > 0) {
+  if (two_passes) {
     filtered = FilterObservations(options.filter_max_error_px, &model);
-    if (filtered > 0) {
-      const BundleAdjustmentSummary second = BundleAdjust(problem, options.bundle, &model);
-      if (!second.usable) throw InputError("point-based BA: solver failure: " + second.message);
-      r.iterations += second.iterations;
-    }
+    // The final pass always runs: it is the configured loss on the kept observations.
+    const BundleAdjustmentSummary second = BundleAdjust(problem, options.bundle, &model);
+    if (!second.usable) throw InputError("point-based BA: solver failure: " + second.message);
+    r.iterations += second.iterations;
   }
   r.adjust_seconds = adjust.Seconds();
   r.peak_rss_mb = PeakRssMb();

@@ -3,7 +3,9 @@
 // in the benchmark baseline's configuration (all images, ChooseGauge, filter-and-refine at
 // 4 px): it should converge (Ceres CONVERGENCE, not the iteration budget) in a modest number
 // of iterations to a sigma close to the truth's. Huber (the default loss) does only once the
-// gross outliers are gone; with them it does not (disabled reproducer at the end).
+// gross outliers are gone; with them left in it settles at ~0.62 px and ~0.9 deg: the reason
+// the benchmark's baseline runs its first pass with Cauchy (PointBasedOptions, tested in
+// tests/mapper/pose_refinement_test.cc).
 #include "pgba/optim/bundle_adjuster.h"
 
 #include <gtest/gtest.h>
@@ -102,26 +104,6 @@ TEST(BundleAdjuster, PlanarCauchyWithGrossOutliersConverges) {
   EXPECT_TRUE(cauchy.converged);
   EXPECT_LE(cauchy.iterations, 20);
   EXPECT_LT(cauchy.sigma, sigma_truth + 0.01);
-}
-
-// The reproducer of the open issue (disabled: fails, see the report of this test's commit):
-// Huber 1 px with the gross outliers left in, from the truth, ends at sigma ~0.62-0.63 px
-// and ~1 degree median rotation error (the same point when started from the clean solution
-// above: it is the minimum of the Huber objective, not a path of the solver), in 67 + 24
-// iterations. Each gross outlier pulls with a constant force (L1 tail) and those whose
-// robust optimum lies past infinity along the inlier ray pull coherently; the planar video
-// has a weak mode (0.48 deg from the noise alone) along which they drag the poses. IRLS on
-// these L1 terms converges linearly (Ceres trust-region ratio ~2 every step), xyz points
-// run to 1e7 x the scene size. Run with PGBA_BA_LOG=1 for Ceres' progress.
-TEST(BundleAdjuster, DISABLED_PlanarHuberWithGrossOutliersConverges) {
-  const SyntheticScene s = Generate(SyntheticScenario::kPlanar);
-  const std::map<uint32_t, Pose> truth = PosesOf(s.gt);
-  const double sigma_truth = EvaluateSigma(s.input, truth).rms;
-  const Outcome huber = RunPointBased(s, truth, "huber");
-  EXPECT_TRUE(huber.converged);
-  EXPECT_LE(huber.iterations, 40);
-  EXPECT_LT(huber.sigma, sigma_truth + 0.01);
-  EXPECT_LT(huber.rot_err_median, 0.6);
 }
 
 }  // namespace
