@@ -47,6 +47,9 @@ struct SweepPoint {
   // Final sigma_rms per method (pointless, averaging); NaN where the run failed.
   double sigma_pointless = 0.0;
   double sigma_averaging = 0.0;
+  // Images each method refined (a sigma over fewer images is not the same sigma).
+  int images_pointless = 0;
+  int images_averaging = 0;
   std::string error;  // why a run failed
 };
 

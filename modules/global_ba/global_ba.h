@@ -61,11 +61,14 @@ struct GlobalBAOptions {
   int max_rounds = 4;
   // Levenberg-Marquardt iterations per round.
   int max_iterations_per_round = 25;
-  // Stop the rounds when a round lowers the cost by less than this fraction.
-  double round_tolerance = 1e-6;
-  // Ceres convergence tolerances of each round.
-  double function_tolerance = 1e-10;
-  double parameter_tolerance = 1e-10;
+  // Stop the rounds when a round lowers the cost by less than this fraction (rounds after
+  // the first only polish the re-weighted fit: 0.4%, 0.07%, 0.02% on a 500-image block).
+  double round_tolerance = 1e-3;
+  // Ceres convergence tolerances of each round: the point-based baseline's
+  // (BundleAdjusterOptions), so that the benchmark times both to the same stopping rule.
+  // Sigma is final after 2-3 iterations; tighter tolerances only add iterations.
+  double function_tolerance = 1e-6;
+  double parameter_tolerance = 1e-8;
   // Fitting error of triplet s: e_s = |W_s (x_s - x0_s)| / n_s with n_s the residual norm of
   // a 1 px pixel error (sqrt(gamma/M) for kHessian, 1 for kScalar); robust scale sigma = the
   // median of e_s. IRLS weight w_s = 1 / (1 + (e_s / (irls_factor sigma))^2) (Cauchy);

@@ -40,8 +40,7 @@ GlobalMapperResult RunGlobalMapper(const Reconstruction& tracks, const GlobalMap
     StageTimer timer(report, "triplets");
     TripletStats stats;
     triplets = BuildTriplets(tracks, result.pairs, options.triplets, &stats);
-    timer.Stop().update(ToJson(stats));
-    PGBA_LOG_INFO << "triplets: " << triplets.size() << " kept of " << stats.candidates << " candidates";
+    timer.Stop().update(ToJson(stats));  // BuildTriplets logs its own summary line
   }
   if (triplets.empty()) throw InputError("tracks: no triplet survived estimation (see report.json for reasons)");
 
