@@ -171,7 +171,8 @@ nlohmann::json FeatureExtractionRecord(const FeatureExtractionResult& r) {
   nlohmann::json record = {{"images", r.index.images.size()},
                            {"images_extracted", r.num_extracted},
                            {"images_cached", r.num_cached},
-                           {"megapixels_extracted", r.megapixels_extracted}};
+                           {"megapixels_extracted", r.megapixels_extracted},
+                           {"calibration_source", r.calibration_source}};
   if (r.megapixels_extracted > 0) record["seconds_per_megapixel"] = r.seconds / r.megapixels_extracted;
   nlohmann::json skipped = nlohmann::json::array();
   for (const SkippedImage& s : r.skipped) skipped.push_back({{"name", s.name}, {"reason", s.reason}});

@@ -67,6 +67,21 @@ TEST_F(RunCli, RenderedSceneEveryImageRegisteredAndAccurate) {
   EXPECT_EQ(again["evaluation"]["images_registered"], 14);
 }
 
+// `pgba features` on its own records which calibration it used, as `pgba run` does.
+TEST_F(RunCli, FeaturesCommandRecordsTheCalibrationSource) {
+  const fs::path ws = dir_ / "features_only";
+  const fs::path calib = dir_ / "scene" / "cameras.txt";
+  ASSERT_EQ(Run("features --images " + (dir_ / "scene" / "images").string() + " --calib " + calib.string() +
+                " --out " + ws.string()),
+            0)
+      << Stderr();
+  const nlohmann::json r = Json(ws / "report.json");
+  ASSERT_TRUE(r["stages"].contains("features")) << r.dump();
+  const std::string source = r["stages"]["features"]["calibration_source"].get<std::string>();
+  EXPECT_EQ(source.rfind("file: ", 0), 0u) << source;
+  EXPECT_NE(source.find("cameras.txt"), std::string::npos) << source;
+}
+
 TEST_F(RunCli, NoUsableImagesFailsCleanly) {
   const fs::path empty = dir_ / "empty", junk = dir_ / "junk";
   fs::create_directories(empty);
