@@ -1,44 +1,14 @@
 #include "pgba/io/calibration_json.h"
 
-#include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "pgba/util/error.h"
+#include "pgba/io/json_file_reader.h"
 
 namespace pgba {
-namespace {
-
-class Reader {
- public:
-  explicit Reader(const std::string& path) : path_(path) {}
-  [[noreturn]] void Fail(const std::string& where, const std::string& problem) const {
-    ThrowInputError(path_, 0, where.empty() ? problem : where + ": " + problem);
-  }
-  const nlohmann::json& Field(const nlohmann::json& j, const char* key, const std::string& where) const {
-    if (!j.is_object() || !j.contains(key)) Fail(where, std::string("missing \"") + key + "\"");
-    return j.at(key);
-  }
-  int64_t Integer(const nlohmann::json& j, const std::string& where) const {
-    if (!j.is_number_integer()) Fail(where, "expected an integer, got " + j.dump());
-    return j.get<int64_t>();
-  }
-
- private:
-  std::string path_;
-};
-
-}  // namespace
 
 CalibrationFile ReadCalibrationJson(const std::string& path) {
-  const Reader r(path);
-  std::ifstream in(path);
-  if (!in) r.Fail("", "cannot open the calibration file");
-  nlohmann::json doc;
-  try {
-    doc = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    r.Fail("", std::string("not valid JSON (") + e.what() + ")");
-  }
+  const JsonFileReader r(path);
+  const nlohmann::json doc = r.Parse();
   const nlohmann::json& cameras = r.Field(doc, "cameras", "");
   if (!cameras.is_array() || cameras.empty()) r.Fail("cameras", "expected a non-empty array of cameras");
   CalibrationFile out;

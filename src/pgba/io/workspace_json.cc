@@ -42,24 +42,8 @@ std::string Document(const char* format, const char* key, const std::vector<json
 
 }  // namespace internal_workspace
 
-void WorkspaceJsonReader::Fail(const std::string& where, const std::string& problem) const {
-  ThrowInputError(path_, 0, where.empty() ? problem : where + ": " + problem);
-}
-
 json WorkspaceJsonReader::Load(const char* format, const char* key) const {
-  std::ifstream in(path_, std::ios::binary);
-  if (!in) Fail("", "cannot open");
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  const std::string text = buffer.str();
-  json doc;
-  try {
-    doc = json::parse(text);
-  } catch (const json::parse_error& e) {
-    const size_t byte = std::min<size_t>(e.byte, text.size());
-    const int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + byte, '\n'));
-    ThrowInputError(path_, line, "invalid JSON");
-  }
+  const json doc = Parse();
   if (!doc.is_object()) Fail("", "not a JSON object");
   if (!doc.contains("format") || doc["format"] != format)
     Fail("", std::string("not a ") + format + " file (\"format\" must be \"" + format + "\")");
@@ -71,16 +55,6 @@ json WorkspaceJsonReader::Load(const char* format, const char* key) const {
   return doc[key];
 }
 
-const json& WorkspaceJsonReader::Field(const json& j, const char* key, const std::string& where) const {
-  if (!j.is_object() || !j.contains(key)) Fail(where, std::string("missing \"") + key + "\"");
-  return j[key];
-}
-
-double WorkspaceJsonReader::Number(const json& j, const std::string& where) const {
-  if (!j.is_number() || !std::isfinite(j.get<double>())) Fail(where, "expected a finite number, got " + j.dump());
-  return j.get<double>();
-}
-
 Eigen::Matrix3d WorkspaceJsonReader::Rotation(const json& j, const std::string& where) const {
   const Eigen::Matrix<double, 9, 1> v = Numbers<9>(j, where);
   Eigen::Matrix3d R;
@@ -89,11 +63,6 @@ Eigen::Matrix3d WorkspaceJsonReader::Rotation(const json& j, const std::string& 
   if ((R * R.transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-6 || R.determinant() < 0)
     Fail(where, "not a rotation matrix");
   return R;
-}
-
-int64_t WorkspaceJsonReader::Integer(const json& j, const std::string& where) const {
-  if (!j.is_number_integer()) Fail(where, "expected an integer, got " + j.dump());
-  return j.get<int64_t>();
 }
 
 uint32_t WorkspaceJsonReader::Image(const json& name, const json& stored_id, const std::string& where) const {

@@ -1,6 +1,7 @@
 // Shared by the readers and writers of the workspace's JSON artefacts (pairs.json,
 // triplets.json, local_hessians.json): the document layout (format, version, one entry per
-// line) and a reader whose every problem becomes a one-line InputError "FILE: WHERE: problem".
+// line) and a reader whose every problem becomes a one-line InputError "FILE: WHERE: problem"
+// (json_file_reader.h).
 #pragma once
 
 #include <Eigen/Core>
@@ -9,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "pgba/io/json_file_reader.h"
 #include "pgba/scene/reconstruction.h"
 
 namespace pgba {
@@ -22,31 +24,19 @@ const std::string& NameOf(const Reconstruction& tracks, uint32_t id, const std::
 std::string Document(const char* format, const char* key, const std::vector<nlohmann::json>& entries);
 }  // namespace internal_workspace
 
-class WorkspaceJsonReader {
+// A workspace artefact: format and version checked, image names resolved in the tracks model.
+class WorkspaceJsonReader : public JsonFileReader {
  public:
   WorkspaceJsonReader(const std::filesystem::path& path, const Reconstruction& tracks)
-      : path_(path.string()), tracks_(tracks) {}
+      : JsonFileReader(path.string()), tracks_(tracks) {}
 
-  [[noreturn]] void Fail(const std::string& where, const std::string& problem) const;
   // Parses the file and checks format and version; returns the entry array `key`.
   nlohmann::json Load(const char* format, const char* key) const;
-  const nlohmann::json& Field(const nlohmann::json& j, const char* key, const std::string& where) const;
-  double Number(const nlohmann::json& j, const std::string& where) const;
-  template <int N>
-  Eigen::Matrix<double, N, 1> Numbers(const nlohmann::json& j, const std::string& where) const {
-    if (!j.is_array() || static_cast<int>(j.size()) != N)
-      Fail(where, "expected an array of " + std::to_string(N) + " numbers");
-    Eigen::Matrix<double, N, 1> v;
-    for (int k = 0; k < N; ++k) v(k) = Number(j[k], where);
-    return v;
-  }
   Eigen::Matrix3d Rotation(const nlohmann::json& j, const std::string& where) const;
-  int64_t Integer(const nlohmann::json& j, const std::string& where) const;
   // The image named `name` in the tracks model; its id must equal the stored one.
   uint32_t Image(const nlohmann::json& name, const nlohmann::json& stored_id, const std::string& where) const;
 
  private:
-  std::string path_;
   const Reconstruction& tracks_;
 };
 

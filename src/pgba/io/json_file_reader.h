@@ -1,0 +1,37 @@
+// A JSON file read with every problem reported as a one-line InputError "FILE[:LINE]: WHERE:
+// problem" (parse errors with their line). The base of the workspace artefact readers
+// (workspace_json.h) and of the calibration file (calibration_json.h).
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace pgba {
+
+class JsonFileReader {
+ public:
+  explicit JsonFileReader(std::string path) : path_(std::move(path)) {}
+
+  const std::string& path() const { return path_; }
+  [[noreturn]] void Fail(const std::string& where, const std::string& problem) const;
+  // The whole file parsed ("cannot open" / "invalid JSON" at its line otherwise).
+  nlohmann::json Parse() const;
+  const nlohmann::json& Field(const nlohmann::json& j, const char* key, const std::string& where) const;
+  double Number(const nlohmann::json& j, const std::string& where) const;  // finite
+  int64_t Integer(const nlohmann::json& j, const std::string& where) const;
+  template <int N>
+  Eigen::Matrix<double, N, 1> Numbers(const nlohmann::json& j, const std::string& where) const {
+    if (!j.is_array() || static_cast<int>(j.size()) != N)
+      Fail(where, "expected an array of " + std::to_string(N) + " numbers");
+    Eigen::Matrix<double, N, 1> v;
+    for (int k = 0; k < N; ++k) v(k) = Number(j[k], where);
+    return v;
+  }
+
+ private:
+  std::string path_;
+};
+
+}  // namespace pgba
