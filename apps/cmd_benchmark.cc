@@ -1,5 +1,5 @@
 // pgba benchmark --tracks INPUT --out OUT [--gt GT] [--loop loop_pairs.txt] [--config F]
-//                [--rotation-outliers F] [--outlier-sweep]
+//                [--rotation-outliers F] [--outlier-sweep] [--triplet-split]
 //
 // The paper's evaluation: one shared initialisation, then pointless BA, point-based BA and
 // Aver_BA from the same initial poses. Writes OUT/models/<method>/ (COLMAP text),
@@ -25,6 +25,7 @@ void RegisterBenchmark(CLI::App& app) {
     std::string tracks, out, config, gt, loop;
     double rotation_outliers = 0.0;
     bool outlier_sweep = false;
+    bool triplet_split = false;
     bool no_convergence = false;
   };
   auto args = std::make_shared<Args>();
@@ -40,6 +41,9 @@ void RegisterBenchmark(CLI::App& app) {
   sub->add_flag("--outlier-sweep", args->outlier_sweep,
                 "Also run 0..22% relative-rotation outliers (pointless and Aver_BA; paper Figure 4)");
   sub->add_flag("--no-convergence", args->no_convergence, "Skip the per-iteration sigma curves");
+  sub->add_flag("--triplet-split", args->triplet_split,
+                "Also run the point-based BA over the triplets' own tracks (the objective the pointless BA "
+                "approximates)");
 
   AddCommand(app, sub, [args] {
     namespace fs = std::filesystem;
@@ -48,6 +52,7 @@ void RegisterBenchmark(CLI::App& app) {
     options.mapper = ro.mapper;
     options.refinement = ro.refinement;
     options.convergence = !args->no_convergence;
+    options.triplet_split = args->triplet_split;
     if (args->rotation_outliers > 0) options.mapper.global_init.outliers.fraction = args->rotation_outliers;
     if (args->outlier_sweep)
       for (int k = 0; k <= 11; ++k) options.outlier_sweep.push_back(0.02 * k);

@@ -99,6 +99,8 @@ BenchmarkResult RunBenchmark(const Reconstruction& tracks, const GlobalMapperRes
       PrepareLocalHessians(tracks, init.init.triplets, options.refinement.local_hessian);
   for (RefinementMethod method : kAllRefinementMethods)
     result.methods.push_back(RunMethod(method, tracks, init, &hessians, gt, loops, options));
+  if (options.triplet_split)
+    result.methods.push_back(RunMethod(RefinementMethod::kPointBasedSplit, tracks, init, &hessians, gt, loops, options));
   for (double f : options.outlier_sweep) result.sweep.push_back(RunSweepPoint(tracks, f, options));
   return result;
 }
@@ -150,6 +152,8 @@ const char* DisplayName(RefinementMethod m) {
       return "Point-based BA";
     case RefinementMethod::kAveraging:
       return "Aver_BA";
+    case RefinementMethod::kPointBasedSplit:
+      return "Point-based, split";
   }
   return "?";
 }

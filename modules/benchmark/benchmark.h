@@ -31,6 +31,8 @@ struct BenchmarkOptions {
   // rotation misfit (so the adjustment, not the initialisation, faces the outliers), then
   // pointless BA and Aver_BA.
   std::vector<double> outlier_sweep;
+  // Also run pointbased_split (pose_refinement.h): what the triplet structure costs.
+  bool triplet_split = false;
 };
 
 struct MethodOutcome {
@@ -55,7 +57,7 @@ struct SweepPoint {
 
 struct BenchmarkResult {
   EvaluationMetrics init_metrics;  // the shared initial poses
-  std::vector<MethodOutcome> methods;  // in kAllRefinementMethods order
+  std::vector<MethodOutcome> methods;  // kAllRefinementMethods order, then pointbased_split
   std::vector<SweepPoint> sweep;
   // benchmark.json (ARCHITECTURE.md "Report keys"):
   // {"methods": {NAME: {"sigma_init", "sigma_final", "params", "iterations", "adjust_seconds",

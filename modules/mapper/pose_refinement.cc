@@ -3,6 +3,7 @@
 #include <cmath>
 #include <string>
 
+#include "mapper/triplet_split_tracks.h"
 #include "pgba/scene/triangulate_model.h"
 #include "pgba/util/error.h"
 #include "pgba/util/logging.h"
@@ -18,6 +19,8 @@ const char* RefinementMethodName(RefinementMethod method) {
       return "pointbased";
     case RefinementMethod::kAveraging:
       return "averaging";
+    case RefinementMethod::kPointBasedSplit:
+      return "pointbased_split";
   }
   return "unknown";
 }
@@ -146,6 +149,12 @@ RefinementResult RefinePoses(RefinementMethod method, const Reconstruction& trac
   RefinementResult r;
   if (method == RefinementMethod::kPointBased) {
     r = RefinePointBased(tracks, initial, options.point_based, record_history);
+  } else if (method == RefinementMethod::kPointBasedSplit) {
+    Timer split;
+    const Reconstruction triplet_tracks = SplitTracksByTriplets(tracks, triplets);
+    const double split_seconds = split.Seconds();
+    r = RefinePointBased(triplet_tracks, initial, options.point_based, record_history);
+    r.prepare_seconds += split_seconds;
   } else {
     if (!hessians) throw std::invalid_argument("RefinePoses: local hessians are required for this method");
     r = RefineWithTriplets(method, tracks, initial, triplets, *hessians, options, record_history, gcps);

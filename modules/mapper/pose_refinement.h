@@ -4,8 +4,11 @@
 //                global BA weighted by the 18x18 reduced camera matrices (eq. 5);
 //   averaging  — Aver_BA: the same relative motions and solver, scalar weights instead of
 //                the Hessians (IRLS motion averaging, the paper's baseline);
-//   pointbased — classical BA over poses and triangulated points (Huber, Schur complement).
-// `pgba reconstruct` runs the first; `pgba benchmark` runs all three on one initialisation.
+//   pointbased — classical BA over poses and triangulated points (Huber, Schur complement);
+//   pointbased_split — the same BA over the triplets' own tracks (triplet_split_tracks.h):
+//                the exact objective that the pointless BA approximates (a diagnostic).
+// `pgba reconstruct` runs the first; `pgba benchmark` runs the first three on one
+// initialisation (and the fourth with --triplet-split).
 #pragma once
 
 #include <cstdint>
@@ -24,8 +27,9 @@
 
 namespace pgba {
 
-enum class RefinementMethod { kPointless, kPointBased, kAveraging };
-// "pointless", "pointbased", "averaging" (the benchmark's method and model folder names).
+enum class RefinementMethod { kPointless, kPointBased, kAveraging, kPointBasedSplit };
+// "pointless", "pointbased", "averaging", "pointbased_split" (the benchmark's method and
+// model folder names).
 const char* RefinementMethodName(RefinementMethod method);
 constexpr RefinementMethod kAllRefinementMethods[] = {RefinementMethod::kPointless, RefinementMethod::kPointBased,
                                                       RefinementMethod::kAveraging};
