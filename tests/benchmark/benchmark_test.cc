@@ -12,6 +12,7 @@
 
 #include "benchmark/svg_plot.h"
 #include "synthetic/synthetic_scene.h"
+#include "tests/support/acceptance_scene.h"
 
 namespace pgba {
 namespace {
@@ -28,13 +29,7 @@ const MethodOutcome& Method(const BenchmarkResult& r, RefinementMethod m) {
 }
 
 BenchmarkResult RunScene(const Case& c, SyntheticScene* scene_out = nullptr) {
-  SyntheticOptions so;
-  so.scenario = c.scenario;
-  so.num_images = c.images;
-  so.noise_px = 0.5;
-  so.outlier_fraction = 0.02;
-  so.seed = 7;
-  const SyntheticScene scene = GenerateSyntheticScene(so);
+  const SyntheticScene scene = test::AcceptanceScene(c.scenario, c.images, /*seed=*/7);
   BenchmarkOptions options;
   Report report;
   const GlobalMapperResult init = RunGlobalMapper(scene.input, options.mapper, &report);
@@ -118,13 +113,7 @@ TEST(SvgPlot, LogScaleSkipsNonPositiveValuesAndNamesEverySeries) {
 // hessians lose nothing measurable. What both lose against the full point-based BA is the
 // triplet structure (on this orbit: rotation errors ~1.8x), not the approximation.
 TEST(TripletSplitBaseline, PointlessMatchesTheObjectiveItApproximates) {
-  SyntheticOptions so;
-  so.scenario = SyntheticScenario::kOrbit;
-  so.num_images = 40;
-  so.noise_px = 0.5;
-  so.outlier_fraction = 0.02;
-  so.seed = 7;
-  const SyntheticScene scene = GenerateSyntheticScene(so);
+  const SyntheticScene scene = test::AcceptanceScene(SyntheticScenario::kOrbit, 40, /*seed=*/7);
   BenchmarkOptions options;
   options.convergence = false;
   options.triplet_split = true;
@@ -151,13 +140,7 @@ TEST(TripletSplitBaseline, PointlessMatchesTheObjectiveItApproximates) {
 // 2% of the clean run's, on the same scene (`pgba benchmark --outlier-sweep` on the seed-1 orbit:
 // +0.4% at 22%, Aver_BA +3%).
 TEST(OutlierSweep, PointlessBAIsRobustToOutlierMotions) {
-  SyntheticOptions so;
-  so.scenario = SyntheticScenario::kOrbit;
-  so.num_images = 70;
-  so.noise_px = 0.5;
-  so.outlier_fraction = 0.02;
-  so.seed = 7;
-  const SyntheticScene scene = GenerateSyntheticScene(so);
+  const SyntheticScene scene = test::AcceptanceScene(SyntheticScenario::kOrbit, 70, /*seed=*/7);
   BenchmarkOptions options;
   options.outlier_sweep = {0.0, 0.2};
   Report report;

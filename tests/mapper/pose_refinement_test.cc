@@ -13,17 +13,13 @@
 #include "evaluation/sigma.h"
 #include "pgba/scene/triangulate_model.h"
 #include "synthetic/synthetic_scene.h"
+#include "tests/support/acceptance_scene.h"
 
 namespace pgba {
 namespace {
 
 TEST(PoseRefinement, PointBasedBaselineReachesTheMaximumLikelihoodOnPlanar) {
-  SyntheticOptions so;
-  so.scenario = SyntheticScenario::kPlanar;
-  so.seed = 1;
-  so.noise_px = 0.5;
-  so.outlier_fraction = 0.02;
-  const SyntheticScene s = GenerateSyntheticScene(so);
+  const SyntheticScene s = test::AcceptanceScene(SyntheticScenario::kPlanar, 0, /*seed=*/1);
   std::map<uint32_t, Pose> truth;
   for (const auto& [id, im] : s.gt.images) truth[id] = im.pose;
   const double sigma_truth = EvaluateSigma(s.input, truth).rms;

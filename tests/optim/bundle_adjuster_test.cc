@@ -18,6 +18,7 @@
 #include "pgba/geometry/rotation.h"
 #include "pgba/scene/triangulate_model.h"
 #include "synthetic/synthetic_scene.h"
+#include "tests/support/acceptance_scene.h"
 
 namespace pgba {
 namespace {
@@ -28,15 +29,7 @@ std::map<uint32_t, Pose> PosesOf(const Reconstruction& rec) {
   return poses;
 }
 
-SyntheticScene Generate(SyntheticScenario scenario, int num_images = 0) {
-  SyntheticOptions o;
-  o.scenario = scenario;
-  o.seed = 1;
-  o.noise_px = 0.5;
-  o.outlier_fraction = 0.02;
-  o.num_images = num_images;
-  return GenerateSyntheticScene(o);
-}
+SyntheticScene Generate(SyntheticScenario scenario) { return test::AcceptanceScene(scenario, 0, /*seed=*/1); }
 
 struct Outcome {
   bool converged = true;
