@@ -7,7 +7,7 @@
 
 #include "benchmark/svg_plot.h"
 #include "averaging/outlier_injection.h"
-#include "benchmark/text_format.h"
+#include "pgba/util/text_format.h"
 #include "pgba/scene/triangulate_model.h"
 #include "pgba/util/error.h"
 #include "pgba/util/logging.h"

@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "benchmark/svg_plot.h"
-#include "benchmark/text_format.h"
+#include "pgba/util/text_format.h"
 
 namespace pgba {
 namespace {

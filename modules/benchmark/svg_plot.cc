@@ -1,6 +1,6 @@
 #include "benchmark/svg_plot.h"
 
-#include "benchmark/text_format.h"
+#include "pgba/util/text_format.h"
 
 #include <algorithm>
 #include <cmath>

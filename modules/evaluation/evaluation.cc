@@ -3,6 +3,8 @@
 #include <cstdio>
 #include <string>
 
+#include "pgba/util/text_format.h"
+
 namespace pgba {
 
 EvaluationMetrics Evaluate(const Reconstruction& model, const Reconstruction& obs, const Reconstruction* gt,
@@ -61,12 +63,6 @@ void Row(std::ostream& out, const std::string& name, const std::string& value) {
   out << buf;
 }
 
-std::string Fmt(const char* format, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof(buf), format, v);
-  return buf;
-}
-
 }  // namespace
 
 void EvaluationMetrics::PrintTable(std::ostream& out) const {
@@ -74,24 +70,24 @@ void EvaluationMetrics::PrintTable(std::ostream& out) const {
   out << "evaluation\n";
   Row(out, "images registered", std::to_string(images_registered) + " / " + std::to_string(images_input));
   Row(out, "tracks triangulated", std::to_string(sigma.num_triangulated) + " / " + std::to_string(sigma.num_tracks));
-  Row(out, "sigma rms (px)", sigma.Computable() ? Fmt("%.4f", sigma.rms) : na);
-  Row(out, "sigma median (px)", sigma.num_triangulated > 0 ? Fmt("%.4f", sigma.median) : na);
-  Row(out, "inlier fraction", sigma.num_observations > 0 ? Fmt("%.4f", sigma.inlier_fraction) : na);
+  Row(out, "sigma rms (px)", sigma.Computable() ? FormatNumber("%.4f", sigma.rms) : na);
+  Row(out, "sigma median (px)", sigma.num_triangulated > 0 ? FormatNumber("%.4f", sigma.median) : na);
+  Row(out, "inlier fraction", sigma.num_observations > 0 ? FormatNumber("%.4f", sigma.inlier_fraction) : na);
   if (ground_truth) {
     const GroundTruthErrors& g = *ground_truth;
     Row(out, "gt images compared", std::to_string(g.num_common) + " (alignment on " +
                                        std::to_string(g.num_alignment_inliers) + ")");
-    Row(out, "rot err median (deg)", g.ok ? Fmt("%.4g", g.rot_err_deg_median) : na);
-    Row(out, "rot err max (deg)", g.ok ? Fmt("%.4g", g.rot_err_deg_max) : na);
-    Row(out, "centre err median (rel)", g.ok ? Fmt("%.3e", g.center_err_rel_median) : na);
-    Row(out, "centre err max (rel)", g.ok ? Fmt("%.3e", g.center_err_rel_max) : na);
+    Row(out, "rot err median (deg)", g.ok ? FormatNumber("%.4g", g.rot_err_deg_median) : na);
+    Row(out, "rot err max (deg)", g.ok ? FormatNumber("%.4g", g.rot_err_deg_max) : na);
+    Row(out, "centre err median (rel)", g.ok ? FormatNumber("%.3e", g.center_err_rel_median) : na);
+    Row(out, "centre err max (rel)", g.ok ? FormatNumber("%.3e", g.center_err_rel_max) : na);
   }
   if (loop) {
     Row(out, "loop pairs evaluated", std::to_string(loop->num_evaluated) + " / " +
                                          std::to_string(loop->num_correspondences) +
                                          (loop->num_failed ? " (" + std::to_string(loop->num_failed) + " failed)" : ""));
-    Row(out, "loop err rms (px)", loop->Computable() ? Fmt("%.4f", loop->rms) : na);
-    Row(out, "loop err median (px)", loop->Computable() ? Fmt("%.4f", loop->median) : na);
+    Row(out, "loop err rms (px)", loop->Computable() ? FormatNumber("%.4f", loop->rms) : na);
+    Row(out, "loop err median (px)", loop->Computable() ? FormatNumber("%.4f", loop->median) : na);
   }
 }
 

@@ -1,8 +1,6 @@
 // `pgba evaluate` end to end on files written by the test: a good run writes the JSON with
 // the report keys; bad inputs exit with code 2 and "error: FILE..." on stderr, writing nothing.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -11,16 +9,12 @@
 
 #include "pgba/io/colmap_text.h"
 #include "pgba/io/loop_pairs.h"
+#include "tests/apps/cli_runner.h"
 #include "tests/evaluation/test_scene.h"
 
 namespace pgba {
 namespace {
 namespace fs = std::filesystem;
-
-struct RunResult {
-  int code = -1;
-  std::string out, err;
-};
 
 std::string Slurp(const fs::path& p) {
   std::ifstream in(p);
@@ -49,17 +43,7 @@ class EvaluateCli : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
 
-  RunResult Run(const std::string& args) {
-    const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
-    const std::string cmd = std::string(PGBA_BINARY) + " evaluate " + args + " > " + out.string() + " 2> " +
-                            err.string();
-    const int status = std::system(cmd.c_str());
-    RunResult r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = Slurp(out);
-    r.err = Slurp(err);
-    return r;
-  }
+  test::CliStreams Run(const std::string& args) { return test::RunPgbaStreams("evaluate " + args); }
 
   // Copies gt/ to a fresh bad_<k>/ with `file`'s line `line_no` (1-based, counting every
   // line) replaced.
@@ -84,7 +68,7 @@ class EvaluateCli : public ::testing::Test {
 
 TEST_F(EvaluateCli, GoodRunWritesJsonWithTheKeys) {
   const fs::path json = dir_ / "res" / "eval.json";
-  const RunResult r = Run((dir_ / "gt").string() + " --obs " + (dir_ / "input").string() + " --gt " +
+  const test::CliStreams r = Run((dir_ / "gt").string() + " --obs " + (dir_ / "input").string() + " --gt " +
                           (dir_ / "gt_poses").string() + " --loop " + (dir_ / "loop_pairs.txt").string() +
                           " --json " + json.string());
   ASSERT_EQ(r.code, 0) << r.err;
@@ -107,7 +91,7 @@ TEST_F(EvaluateCli, GoodRunWritesJsonWithTheKeys) {
   EXPECT_LT(j["loop_err_rms"].get<double>(), 0.5);
   // Evaluating the input (identity poses) against itself: every centre coincides, so the
   // ground-truth alignment is undefined and its keys are absent; the run still succeeds.
-  const RunResult degenerate = Run((dir_ / "input").string() + " --obs " + (dir_ / "input").string() + " --gt " +
+  const test::CliStreams degenerate = Run((dir_ / "input").string() + " --obs " + (dir_ / "input").string() + " --gt " +
                                    (dir_ / "gt").string() + " --json " + json.string());
   ASSERT_EQ(degenerate.code, 0) << degenerate.err;
   const nlohmann::json k = nlohmann::json::parse(Slurp(json));
@@ -131,7 +115,7 @@ TEST_F(EvaluateCli, BadInputsExitTwoNamingTheFile) {
       {"truncated camera line", CorruptCopy("cameras.txt", 4, "1 PINHOLE"), "cameras.txt:4: truncated line"},
   };
   for (const Case& c : cases) {
-    const RunResult r = Run(c.model + obs + " --json " + json.string());
+    const test::CliStreams r = Run(c.model + obs + " --json " + json.string());
     EXPECT_EQ(r.code, 2) << c.name << ": " << r.err;
     EXPECT_EQ(r.err.rfind("error: ", 0), 0u) << c.name << ": " << r.err;
     EXPECT_NE(r.err.find(c.expect), std::string::npos) << c.name << ": " << r.err;
@@ -139,7 +123,7 @@ TEST_F(EvaluateCli, BadInputsExitTwoNamingTheFile) {
   }
   // A bad observation or ground-truth model is reported the same way.
   const std::string bad_points = CorruptCopy("points3D.txt", 4, "1 0.5 0.5");
-  RunResult r = Run((dir_ / "gt").string() + " --obs " + bad_points + " --json " + json.string());
+  test::CliStreams r = Run((dir_ / "gt").string() + " --obs " + bad_points + " --json " + json.string());
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("points3D.txt:4: truncated line"), std::string::npos) << r.err;
   r = Run((dir_ / "gt").string() + obs + " --gt " + (dir_ / "missing_gt").string());

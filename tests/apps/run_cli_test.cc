@@ -95,7 +95,9 @@ TEST_F(RunCli, NoUsableImagesFailsCleanly) {
     EXPECT_NE(Stderr().find("error: "), std::string::npos);
     EXPECT_FALSE(fs::exists(out / "report.html")) << images;
     EXPECT_FALSE(fs::exists(out / "sparse")) << images;
-    if (fs::exists(out / "report.json")) EXPECT_EQ(Json(out / "report.json")["status"], "failed");
+    if (fs::exists(out / "report.json")) {
+      EXPECT_EQ(Json(out / "report.json")["status"], "failed");
+    }
   }
 }
 

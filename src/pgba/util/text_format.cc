@@ -1,4 +1,4 @@
-#include "benchmark/text_format.h"
+#include "pgba/util/text_format.h"
 
 #include <cmath>
 #include <cstdio>

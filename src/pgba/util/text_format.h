@@ -1,4 +1,4 @@
-// Text helpers shared by the benchmark's tables, SVG plots and HTML report.
+// Text helpers shared by the printed tables (evaluation, benchmark), SVG plots and HTML report.
 #pragma once
 
 #include <string>
