@@ -5,6 +5,7 @@
 #include <map>
 
 #include "pgba/geometry/rotation.h"
+#include "pgba/util/upper_median.h"
 
 namespace pgba {
 namespace {
@@ -12,11 +13,6 @@ namespace {
 struct Disagreement {
   std::vector<double> rotation_deg, direction_deg;
 };
-
-double Median(std::vector<double> v) {
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
 
 double AngleDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / M_PI;
@@ -71,7 +67,8 @@ std::vector<TwoViewGeometry> PairsConsistentWithTriplets(const std::vector<TwoVi
       d.rotation_deg.push_back(RotationAngleDeg(R, R_t));
       d.direction_deg.push_back(AngleDeg(t, t_t));
     }
-    if (Median(d.rotation_deg) <= options.max_rotation_deg && Median(d.direction_deg) <= options.max_direction_deg) {
+    if (UpperMedian(d.rotation_deg) <= options.max_rotation_deg &&
+        UpperMedian(d.direction_deg) <= options.max_direction_deg) {
       kept.push_back(p);
     } else if (num_rejected) {
       ++*num_rejected;

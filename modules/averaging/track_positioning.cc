@@ -11,6 +11,7 @@
 #include "pgba/util/error.h"
 #include "pgba/util/logging.h"
 #include "pgba/util/timer.h"
+#include "pgba/util/upper_median.h"
 
 namespace pgba {
 namespace {
@@ -33,12 +34,6 @@ struct FixedRotationReprojection {
   CameraModel model;
   const double* params;
 };
-
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
 
 // Sum of the distances of three centres to their centroid.
 double Spread(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
@@ -162,7 +157,7 @@ bool PositionOnTracks(const Reconstruction& tracks, const std::vector<Triplet>& 
     const double local = Spread(t.local_poses[0].C(), t.local_poses[1].C(), t.local_poses[2].C());
     if (global > 0.0 && std::isfinite(local / global)) lambdas.push_back(local / global);
   }
-  const double f = lambdas.empty() ? 1.0 : Median(lambdas);
+  const double f = lambdas.empty() ? 1.0 : UpperMedian(lambdas);
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   for (const auto& [id, c] : C) centroid += c;
   centroid /= static_cast<double>(C.size());

@@ -10,15 +10,10 @@
 #include "pgba/util/error.h"
 #include "pgba/util/logging.h"
 #include "pgba/util/timer.h"
+#include "pgba/util/upper_median.h"
 
 namespace pgba {
 namespace {
-
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
 
 // Step 1: every baseline of triplet t observes the length l_ab of the pair (a, b):
 // log l_ab - log S_t = log|v^t_ab|. Unknowns: log S_t per triplet and log l_ab per image
@@ -196,13 +191,13 @@ bool AverageTranslations(const std::vector<Triplet>& triplets, const std::vector
     if (!C.allFinite()) return finish(false, "refinement diverged");
   }
   summary.seconds_refine = step.Seconds();
-  summary.residual_median_rel = Median(RelativeResiduals(baselines, C, S));
+  summary.residual_median_rel = UpperMedian(RelativeResiduals(baselines, C, S));
 
   // Gauge: centroid 0 and median lambda_t = 1, lambda_t = L_t / S_t being the global->local
   // scale of triplet t (scaling the centres by f divides every lambda_t by f).
   std::vector<double> lambdas(S.size());
   for (size_t t = 0; t < S.size(); ++t) lambdas[t] = local_size[t] / S[t];
-  const double f = Median(lambdas);
+  const double f = UpperMedian(lambdas);
   const Eigen::RowVector3d centroid = C.colwise().mean();
   for (size_t n = 0; n < ids.size(); ++n) (*centres)[ids[n]] = f * (C.row(n) - centroid).transpose();
   PGBA_LOG_INFO << "translation averaging: " << ids.size() << " images, " << num_triplets << " triplets, "

@@ -18,6 +18,7 @@
 #include "pgba/util/error.h"
 #include "pgba/util/logging.h"
 #include "pgba/util/timer.h"
+#include "pgba/util/upper_median.h"
 
 namespace pgba {
 
@@ -62,17 +63,11 @@ double FittingError(const Unknowns& u, const TripletTerm& t) {
   return Eigen::Map<const Vector18d>(r).norm() / t.unit;
 }
 
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
-
 // Robust scale of the fitting errors and the IRLS weights from them; the errors in `errors`.
 double Reweight(Unknowns* u, const GlobalBAOptions& options, std::vector<double>* errors = nullptr) {
   std::vector<double> e(u->terms.size());
   for (size_t i = 0; i < u->terms.size(); ++i) e[i] = FittingError(*u, u->terms[i]);
-  const double sigma = Median(e);
+  const double sigma = UpperMedian(e);
   for (size_t i = 0; i < u->terms.size(); ++i) u->terms[i].irls_weight = IrlsWeight(e[i], sigma, options.irls_factor);
   if (errors) *errors = std::move(e);
   return sigma;
@@ -96,7 +91,7 @@ double MisfitRatio(const Unknowns& u, const std::vector<double>& errors) {
     const double v = NoiseVariance(*u.terms[i].hessian);
     if (std::isfinite(v)) r.push_back(errors[i] * errors[i] / (11.0 * v));
   }
-  return r.empty() ? std::numeric_limits<double>::quiet_NaN() : Median(r);
+  return r.empty() ? std::numeric_limits<double>::quiet_NaN() : UpperMedian(r);
 }
 
 class IterationReporter : public ceres::IterationCallback {
@@ -313,7 +308,7 @@ double Displacement(const GlobalBAResult& result, const std::vector<LocalHessian
     f(blocks[0].x.data(), blocks[1].x.data(), blocks[2].x.data(), sim.x.data(), r);
     d.push_back(Eigen::Map<const Vector18d>(r).norm() / (ResidualUnit(h, options) * std::sqrt(v)));
   }
-  return d.empty() ? 0.0 : Median(d);
+  return d.empty() ? 0.0 : UpperMedian(d);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include "pgba/geometry/triangulation.h"
 #include "pgba/optim/bundle_adjuster.h"
 #include "pgba/util/logging.h"
+#include "pgba/util/upper_median.h"
 
 namespace pgba {
 namespace {
@@ -41,12 +42,6 @@ Reconstruction MakeLocalModel(const TrackIndex& index, const std::array<uint32_t
   return rec;
 }
 
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
-
 // Length of the baseline hinge -> c of an open triplet, in the base pair's scale: each track
 // seen by all three views is triangulated again from (hinge, c) with a unit baseline, and
 // the ratio of its distances to the hinge centre (base pair / unit) is one measurement of
@@ -69,7 +64,7 @@ std::optional<double> BaselineScale(const TrackIndex& index, const std::array<ui
     if (d > 0.0) ratios.push_back((base_points[k] - centre).norm() / d);
   }
   if (ratios.empty()) return std::nullopt;
-  const double s = Median(ratios);
+  const double s = UpperMedian(ratios);
   if (!std::isfinite(s) || !(s > 0.0)) return std::nullopt;
   return s;
 }
@@ -218,7 +213,7 @@ TripletEstimate EstimateTriplet(const TrackIndex& index, const std::array<uint32
     for (double e : ObservationErrorsPx(local, pid)) sq += e * e, ++num_obs;
     out.num_tracks_all_views += point.track.size() == 3;
   }
-  out.median_triangulation_angle_deg = Median(angles);
+  out.median_triangulation_angle_deg = UpperMedian(angles);
   const double rms = std::sqrt(sq / std::max(1, num_obs));
   if (out.median_triangulation_angle_deg < options.min_triangulation_angle_deg)
     return reject(TripletRejection::kDegenerate);

@@ -1,8 +1,5 @@
 #include "pgba/io/workspace_json.h"
 
-#include <algorithm>
-#include <cmath>
-#include <fstream>
 #include <sstream>
 
 #include "pgba/io/workspace.h"
