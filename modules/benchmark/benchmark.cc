@@ -1,5 +1,6 @@
 #include "benchmark/benchmark.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -37,9 +38,17 @@ MethodOutcome RunMethod(RefinementMethod method, const Reconstruction& tracks, c
 // view's x0 (LocalHessian::local_poses) per chosen triplet, its h kept, as if the relative
 // motion had been estimated wrong and its local BA had not noticed (a triplet whose local
 // poses are corrupted before its local BA is rejected there by its own points). Returns the
-// number corrupted.
+// number corrupted. Only when the motions are the triplets (local_motions.views = 3): N-view
+// motions are built from the initial poses, which carry the initialisation's outliers already.
 int CorruptMotions(double fraction, uint64_t seed, const std::vector<Triplet>& triplets,
-                   std::vector<LocalHessian>* hessians) {
+                   PreparedHessians* prepared) {
+  std::vector<LocalHessian>* hessians = &prepared->result.hessians;
+  if (prepared->motions.size() != triplets.size() ||
+      std::any_of(prepared->motions.begin(), prepared->motions.end(),
+                  [](const LocalMotion& m) { return m.num_views() != 3; })) {
+    PGBA_LOG_WARN << "outlier sweep: the motions are not the triplets; only the initialisation is corrupted";
+    return 0;
+  }
   std::vector<Triplet> motions = triplets;
   OutlierInjectionOptions o;
   o.fraction = fraction;
@@ -48,7 +57,8 @@ int CorruptMotions(double fraction, uint64_t seed, const std::vector<Triplet>& t
   const OutlierInjectionResult injected = InjectRotationOutliers(o, nullptr, &motions);
   const std::set<int> chosen(injected.triplets.begin(), injected.triplets.end());
   for (LocalHessian& h : *hessians)
-    if (chosen.count(h.triplet_index)) h.local_poses = motions[h.triplet_index].local_poses;
+    if (chosen.count(h.motion_index))
+      h.local_poses.assign(motions[h.motion_index].local_poses.begin(), motions[h.motion_index].local_poses.end());
   return static_cast<int>(injected.triplets.size());
 }
 
@@ -69,9 +79,8 @@ SweepPoint RunSweepPoint(const Reconstruction& tracks, double fraction, const Be
     Report scratch;
     const GlobalMapperResult init = RunGlobalMapper(tracks, mapper, &scratch);
     p.pairs_corrupted = init.init.stats.pairs_corrupted;
-    PreparedHessians h = PrepareLocalHessians(tracks, init.init.triplets, options.refinement.local_hessian);
-    p.triplets_corrupted =
-        CorruptMotions(fraction, mapper.global_init.outliers.seed, init.init.triplets, &h.result.hessians);
+    PreparedHessians h = PrepareLocalHessians(tracks, init.init.poses, init.init.triplets, options.refinement);
+    p.triplets_corrupted = CorruptMotions(fraction, mapper.global_init.outliers.seed, init.init.triplets, &h);
     for (RefinementMethod method : {RefinementMethod::kPointless, RefinementMethod::kAveraging}) {
       const RefinementResult r =
           RefinePoses(method, tracks, init.init.poses, init.init.triplets, &h, options.refinement, false);
@@ -95,8 +104,7 @@ BenchmarkResult RunBenchmark(const Reconstruction& tracks, const GlobalMapperRes
                              const std::vector<LoopCorrespondence>* loops, const BenchmarkOptions& options) {
   BenchmarkResult result;
   result.init_metrics = Evaluate(TriangulateModel(tracks, init.init.poses), tracks, gt, loops, options.evaluation);
-  const PreparedHessians hessians =
-      PrepareLocalHessians(tracks, init.init.triplets, options.refinement.local_hessian);
+  const PreparedHessians hessians = PrepareLocalHessians(tracks, init.init.poses, init.init.triplets, options.refinement);
   for (RefinementMethod method : kAllRefinementMethods)
     result.methods.push_back(RunMethod(method, tracks, init, &hessians, gt, loops, options));
   if (options.triplet_split)

@@ -16,7 +16,7 @@
 
 #include <Eigen/Core>
 
-#include "modules/global_ba/triplet_similarity.h"
+#include "modules/global_ba/motion_similarity.h"
 
 namespace pgba {
 
@@ -36,7 +36,7 @@ struct GcpResidual {
   Eigen::Matrix3d alpha0;
   Eigen::Vector3d G;
 
-  GcpResidual(const GcpTripletTerm& t, const TripletSimilarity& sim)
+  GcpResidual(const GcpTripletTerm& t, const MotionSimilarity& sim)
       : P(t.P), p_local(t.p_local), inv_sigma(1.0 / t.sigma), alpha0(sim.alpha0), G(sim.G) {}
 
   // d_s^-1(p_local) at the similarity parameters `sim`.

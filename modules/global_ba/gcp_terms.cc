@@ -11,7 +11,7 @@ std::vector<GcpTripletTerm> BuildGcpTerms(const GcpInput& input, const std::vect
   std::vector<int> count(input.gcps.size(), 0);
   for (size_t s = 0; s < hessians.size(); ++s) {
     std::map<uint32_t, Pose> local;
-    for (int k = 0; k < 3; ++k) local[hessians[s]->image_ids[k]] = hessians[s]->local_poses[k];
+    for (int k = 0; k < hessians[s]->num_views(); ++k) local[hessians[s]->image_ids[k]] = hessians[s]->local_poses[k];
     for (size_t g = 0; g < input.gcps.size(); ++g) {
       const std::optional<Eigen::Vector3d> p = TriangulateGcp(input.gcps[g], local, input.options);
       if (!p) continue;

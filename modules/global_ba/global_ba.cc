@@ -7,13 +7,14 @@
 #include <limits>
 #include <memory>
 #include <thread>
+#include <vector>
 
 #include "modules/global_ba/gcp_residual.h"
 #include "modules/global_ba/gcp_terms.h"
-#include "modules/global_ba/triplet_residual.h"
-#include "modules/global_ba/triplet_selection.h"
-#include "modules/global_ba/triplet_similarity.h"
-#include "modules/global_ba/triplet_weighting.h"
+#include "modules/global_ba/motion_residual.h"
+#include "modules/global_ba/motion_selection.h"
+#include "modules/global_ba/motion_similarity.h"
+#include "modules/global_ba/motion_weighting.h"
 #include "pgba/optim/pose_parameterization.h"
 #include "pgba/util/error.h"
 #include "pgba/util/logging.h"
@@ -24,19 +25,19 @@ namespace pgba {
 
 namespace {
 
-// One used triplet: its local Hessian, weight matrix, similarity and IRLS state.
-struct TripletTerm {
+// One used motion: its local Hessian, weight matrix, similarity and IRLS state.
+struct MotionTerm {
   const LocalHessian* hessian = nullptr;
-  Matrix18d W;
-  Vector18d newton_step = Vector18d::Zero();  // LocalHessian::newton_step (kHessian only)
+  Eigen::MatrixXd W;
+  Eigen::VectorXd newton_step;  // LocalHessian::newton_step (kHessian only; empty: zero)
   double unit = 1.0;  // ResidualUnit
-  TripletSimilarity sim;
+  MotionSimilarity sim;
   double irls_weight = 1.0;
 };
 
 struct Unknowns {
   std::map<uint32_t, PoseBlock> poses;  // std::map: stable addresses for Ceres
-  std::vector<TripletTerm> terms;
+  std::vector<MotionTerm> terms;
   const GcpInput* gcps = nullptr;  // optional
   std::vector<GcpTripletTerm> gcp_terms;
   bool gcp_gauge = false;  // the GCPs fix the gauge
@@ -48,19 +49,24 @@ std::map<uint32_t, Pose> CurrentPoses(const Unknowns& u) {
   return poses;
 }
 
-TripletMotionResidual MakeResidual(const Unknowns& u, const TripletTerm& t) {
-  std::array<Eigen::Matrix3d, 3> R0;
-  for (int k = 0; k < 3; ++k) R0[k] = u.poses.at(t.hessian->image_ids[k]).R0;
-  return TripletMotionResidual(R0, t.sim, t.hessian->local_poses, t.W, t.newton_step);
+MotionResidual* MakeResidual(const Unknowns& u, const MotionTerm& t) {
+  std::vector<Eigen::Matrix3d> R0;
+  for (const uint32_t id : t.hessian->image_ids) R0.push_back(u.poses.at(id).R0);
+  return new MotionResidual(R0, t.sim, t.hessian->local_poses, t.W, t.newton_step);
+}
+
+std::vector<double*> PoseBlocksOf(Unknowns& u, const MotionTerm& t) {
+  std::vector<double*> blocks;
+  for (const uint32_t id : t.hessian->image_ids) blocks.push_back(u.poses.at(id).x.data());
+  return blocks;
 }
 
 // Fitting error e_s = |W_s (x_s - x0_s)| / unit_s at the current state.
-double FittingError(const Unknowns& u, const TripletTerm& t) {
-  const TripletMotionResidual f = MakeResidual(u, t);
-  const auto& ids = t.hessian->image_ids;
-  double r[18];
-  f(u.poses.at(ids[0]).x.data(), u.poses.at(ids[1]).x.data(), u.poses.at(ids[2]).x.data(), t.sim.x.data(), r);
-  return Eigen::Map<const Vector18d>(r).norm() / t.unit;
+double FittingError(const Unknowns& u, const MotionTerm& t) {
+  const std::unique_ptr<MotionResidual> f(MakeResidual(u, t));
+  std::vector<const double*> poses;
+  for (const uint32_t id : t.hessian->image_ids) poses.push_back(u.poses.at(id).x.data());
+  return f->Evaluate(poses, t.sim.x.data()).norm() / t.unit;
 }
 
 // Robust scale of the fitting errors and the IRLS weights from them; the errors in `errors`.
@@ -73,23 +79,24 @@ double Reweight(Unknowns* u, const GlobalBAOptions& options, std::vector<double>
   return sigma;
 }
 
-// Per-coordinate pixel noise variance of a triplet, from its local BA residuals: the sum of
-// squares over the degrees of freedom (2 per observation, minus 3 per point and the 11
+// Per-coordinate pixel noise variance of a motion, from its local BA residuals: the sum of
+// squares over the degrees of freedom (2 per observation, minus 3 per point and the 6N - 7
 // informative pose directions). NaN when not estimable.
 double NoiseVariance(const LocalHessian& h) {
-  const double dof = 2.0 * h.num_observations - 3.0 * h.num_points - 11.0;
+  const double dof = 2.0 * h.num_observations - 3.0 * h.num_points - InformativeDimension(h.num_views());
   if (!(dof > 0) || !(h.rms_px > 0)) return std::numeric_limits<double>::quiet_NaN();
   return h.rms_px * h.rms_px * h.num_observations / dof;
 }
 
-// Median over the terms of e_s^2 / (11 sigma_s^2): how far the solution is from each
-// triplet's model centre, in units of the triplet's own noise (GlobalBAOptions::
-// relinearize_misfit).
+// Median over the terms of e_s^2 / ((6N - 7) sigma_s^2) (11 for a triplet): how far the
+// solution is from each motion's model centre, in units of the motion's own noise
+// (GlobalBAOptions::relinearize_misfit).
 double MisfitRatio(const Unknowns& u, const std::vector<double>& errors) {
   std::vector<double> r;
   for (size_t i = 0; i < u.terms.size(); ++i) {
     const double v = NoiseVariance(*u.terms[i].hessian);
-    if (std::isfinite(v)) r.push_back(errors[i] * errors[i] / (11.0 * v));
+    const int informative = InformativeDimension(u.terms[i].hessian->num_views());
+    if (std::isfinite(v)) r.push_back(errors[i] * errors[i] / (informative * v));
   }
   return r.empty() ? std::numeric_limits<double>::quiet_NaN() : UpperMedian(r);
 }
@@ -135,17 +142,12 @@ size_t ReferenceTerm(const Unknowns& u) {
 }
 
 void FixGauge(const GlobalBAOptions& options, Unknowns* u, ceres::Problem* problem) {
-  TripletTerm& ref = u->terms[ReferenceTerm(*u)];
+  MotionTerm& ref = u->terms[ReferenceTerm(*u)];
   if (options.gauge == GaugeFixing::kFixSimilarity) {
     problem->SetParameterBlockConstant(ref.sim.x.data());
     return;
   }
-  PoseBlock& a = u->poses.at(ref.hessian->image_ids[0]);
-  PoseBlock& b = u->poses.at(ref.hessian->image_ids[1]);
-  problem->SetParameterBlockConstant(a.x.data());
-  int coord = 0;
-  (b.x.head<3>() - a.x.head<3>()).cwiseAbs().maxCoeff(&coord);
-  problem->SetManifold(b.x.data(), new ceres::SubsetManifold(6, {coord}));
+  HoldPoseAndScale(&u->poses.at(ref.hessian->image_ids[0]), &u->poses.at(ref.hessian->image_ids[1]), problem);
 }
 
 // One IRLS round: Levenberg-Marquardt on the current weights. Returns the Ceres summary.
@@ -159,18 +161,18 @@ ceres::Solver::Summary SolveRound(const GlobalBAOptions& options, double sigma, 
     problem.AddParameterBlock(block.x.data(), 6);
     ordering->AddElementToGroup(block.x.data(), 1);
   }
-  for (TripletTerm& t : u->terms) {
+  for (MotionTerm& t : u->terms) {
     problem.AddParameterBlock(t.sim.x.data(), 7);
     ordering->AddElementToGroup(t.sim.x.data(), 0);  // eliminated first (Schur)
     ceres::LossFunction* huber =
         options.huber_factor > 0 && sigma > 0 ? new ceres::HuberLoss(options.huber_factor * sigma * t.unit) : nullptr;
     ceres::LossFunction* loss = new ceres::ScaledLoss(huber, t.irls_weight, ceres::TAKE_OWNERSHIP);
-    const auto& ids = t.hessian->image_ids;
-    problem.AddResidualBlock(TripletMotionResidual::Create(MakeResidual(*u, t)), loss, u->poses.at(ids[0]).x.data(),
-                             u->poses.at(ids[1]).x.data(), u->poses.at(ids[2]).x.data(), t.sim.x.data());
+    std::vector<double*> blocks = PoseBlocksOf(*u, t);
+    blocks.push_back(t.sim.x.data());
+    problem.AddResidualBlock(MakeResidual(*u, t), loss, blocks);
   }
   for (const GcpTripletTerm& g : u->gcp_terms) {
-    TripletTerm& t = u->terms[g.term];
+    MotionTerm& t = u->terms[g.term];
     ceres::LossFunction* huber =
         u->gcps->options.huber_sigmas > 0 ? new ceres::HuberLoss(u->gcps->options.huber_sigmas) : nullptr;
     problem.AddResidualBlock(GcpResidual::Create(GcpResidual(g, t.sim)),
@@ -195,36 +197,36 @@ ceres::Solver::Summary SolveRound(const GlobalBAOptions& options, double sigma, 
   return s;
 }
 
-GlobalBAResult RunGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const std::vector<Triplet>& triplets,
+GlobalBAResult RunGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const std::vector<LocalMotion>& motions,
                            const std::vector<LocalHessian>& hessians, const GlobalBAOptions& options,
                            const GlobalBAIterationCallback& callback, const GcpInput* gcps,
                            bool report_start = true) {
   Timer timer;
-  const TripletSelection sel = SelectTriplets(initial_poses, triplets, hessians);
+  const MotionSelection sel = SelectMotions(initial_poses, motions, hessians);
   if (sel.hessian_indices.empty())
-    throw InputError("global BA: no usable triplet (" + std::to_string(hessians.size()) +
-                     " local hessians, none ok with initial poses for its three images)");
+    throw InputError("global BA: no usable motion (" + std::to_string(hessians.size()) +
+                     " local hessians, none ok with initial poses for all its images)");
 
   Unknowns u;
   for (uint32_t id : sel.images) u.poses[id] = PoseBlock::FromPose(initial_poses.at(id));
   for (int hi : sel.hessian_indices) {
-    TripletTerm t;
+    MotionTerm t;
     t.hessian = &hessians[hi];
-    t.W = TripletWeightMatrix(*t.hessian, options);
+    t.W = MotionWeightMatrix(*t.hessian, options);
     // Aver_BA averages the relative motions themselves (scalar weights, no quadratic model).
     if (options.weighting == TripletWeighting::kHessian) t.newton_step = t.hessian->newton_step;
     t.unit = ResidualUnit(*t.hessian, options);
-    std::array<Pose, 3> global;
-    for (int k = 0; k < 3; ++k) global[k] = initial_poses.at(t.hessian->image_ids[k]);
-    const Triplet& triplet = triplets[t.hessian->triplet_index];
+    std::vector<Pose> global;
+    for (const uint32_t id : t.hessian->image_ids) global.push_back(initial_poses.at(id));
+    const LocalMotion& motion = motions[t.hessian->motion_index];
     t.sim = options.similarity_init == SimilarityInit::kFromPoses
-                ? InitializeSimilarity(global, t.hessian->local_poses, triplet.global_to_local)
-                : SimilarityFromSim3(global, triplet.global_to_local);
+                ? InitializeSimilarity(global, t.hessian->local_poses, motion.global_to_local)
+                : SimilarityFromSim3(global, motion.global_to_local);
     u.terms.push_back(t);
   }
   if (gcps && !gcps->gcps.empty()) {
     std::vector<const LocalHessian*> used;
-    for (const TripletTerm& t : u.terms) used.push_back(t.hessian);
+    for (const MotionTerm& t : u.terms) used.push_back(t.hessian);
     u.gcps = gcps;
     u.gcp_terms = BuildGcpTerms(*gcps, used);
     u.gcp_gauge = GcpTermsFixGauge(*gcps, u.gcp_terms);
@@ -254,7 +256,7 @@ GlobalBAResult RunGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const 
     summary.final_cost = s.final_cost;
     summary.rounds = round + 1;
     for (auto& [id, block] : u.poses) block.Relinearize();
-    for (TripletTerm& t : u.terms) t.sim.Relinearize();
+    for (MotionTerm& t : u.terms) t.sim.Relinearize();
     PGBA_LOG_DEBUG << "global BA round " << round << ": sigma " << sigma << ", cost " << s.initial_cost << " -> "
                    << s.final_cost << " in " << s.iterations.size() - 1 << " iterations";
     if (s.termination_type == ceres::FAILURE) throw InputError("global BA: solver failure: " + s.message);
@@ -267,11 +269,11 @@ GlobalBAResult RunGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const 
   summary.misfit_ratio_initial = summary.misfit_ratio;
 
   result.poses = CurrentPoses(u);
-  result.similarities.assign(triplets.size(), Sim3());
-  result.irls_weights.assign(triplets.size(), 0.0);
-  for (const TripletTerm& t : u.terms) {
-    result.similarities[t.hessian->triplet_index] = t.sim.ToSim3();
-    result.irls_weights[t.hessian->triplet_index] = t.irls_weight;
+  result.similarities.assign(motions.size(), Sim3());
+  result.irls_weights.assign(motions.size(), 0.0);
+  for (const MotionTerm& t : u.terms) {
+    result.similarities[t.hessian->motion_index] = t.sim.ToSim3();
+    result.irls_weights[t.hessian->motion_index] = t.irls_weight;
     summary.num_triplets_downweighted += t.irls_weight < 0.5;
   }
   summary.seconds = timer.Seconds();
@@ -294,40 +296,40 @@ double Displacement(const GlobalBAResult& result, const std::vector<LocalHessian
     const LocalHessian& h = hessians[i];
     const double v = NoiseVariance(h);
     if (!std::isfinite(v) || !(result.irls_weights[i] > 0)) continue;
-    std::array<PoseBlock, 3> blocks;
-    std::array<Pose, 3> global;
-    std::array<Eigen::Matrix3d, 3> R0;
-    for (int k = 0; k < 3; ++k) {
-      global[k] = result.poses.at(h.image_ids[k]);
-      blocks[k] = PoseBlock::FromPose(global[k]);
-      R0[k] = blocks[k].R0;
+    std::vector<PoseBlock> blocks;
+    std::vector<Pose> global;
+    std::vector<Eigen::Matrix3d> R0;
+    std::vector<const double*> x;
+    for (const uint32_t id : h.image_ids) {
+      global.push_back(result.poses.at(id));
+      blocks.push_back(PoseBlock::FromPose(global.back()));
+      R0.push_back(blocks.back().R0);
     }
-    const TripletSimilarity sim = SimilarityFromSim3(global, result.similarities[i]);
-    const TripletMotionResidual f(R0, sim, h.local_poses, TripletWeightMatrix(h, options));
-    double r[18];
-    f(blocks[0].x.data(), blocks[1].x.data(), blocks[2].x.data(), sim.x.data(), r);
-    d.push_back(Eigen::Map<const Vector18d>(r).norm() / (ResidualUnit(h, options) * std::sqrt(v)));
+    for (const PoseBlock& b : blocks) x.push_back(b.x.data());
+    const MotionSimilarity sim = SimilarityFromSim3(global, result.similarities[i]);
+    const MotionResidual f(R0, sim, h.local_poses, MotionWeightMatrix(h, options));
+    d.push_back(f.Evaluate(x, sim.x.data()).norm() / (ResidualUnit(h, options) * std::sqrt(v)));
   }
   return d.empty() ? 0.0 : UpperMedian(d);
 }
 
 }  // namespace
 
-GlobalBAResult PointlessGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const std::vector<Triplet>& triplets,
+GlobalBAResult PointlessGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const std::vector<LocalMotion>& motions,
                                  const std::vector<LocalHessian>& hessians, const GlobalBAOptions& options,
                                  const GlobalBAIterationCallback& callback, const GcpInput* gcps) {
-  return RunGlobalBA(initial_poses, triplets, hessians, options, callback, gcps);
+  return RunGlobalBA(initial_poses, motions, hessians, options, callback, gcps);
 }
 
 GlobalBAResult RelinearizedGlobalBA(const Reconstruction& tracks, const LocalHessianOptions& lh_options,
                                     const std::map<uint32_t, Pose>& initial_poses,
-                                    const std::vector<Triplet>& triplets, const std::vector<LocalHessian>& hessians,
+                                    const std::vector<LocalMotion>& motions, const std::vector<LocalHessian>& hessians,
                                     const GlobalBAOptions& options, const GlobalBAIterationCallback& callback,
                                     const GcpInput* gcps) {
   Timer timer;
   GlobalBAOptions pointless = options;
   pointless.weighting = TripletWeighting::kHessian;
-  GlobalBAResult result = RunGlobalBA(initial_poses, triplets, hessians, pointless, callback, gcps);
+  GlobalBAResult result = RunGlobalBA(initial_poses, motions, hessians, pointless, callback, gcps);
   GlobalBASummary total = result.summary;
   const bool trigger = options.relinearize_misfit <= 0 || total.misfit_ratio > options.relinearize_misfit;
   if (options.max_relinearizations > 0 && trigger) {
@@ -336,20 +338,21 @@ GlobalBAResult RelinearizedGlobalBA(const Reconstruction& tracks, const LocalHes
     LocalHessianOptions at_solution = lh_options;
     at_solution.max_iterations = 0;  // h and g where the solution puts the triplet, points re-triangulated
     ObservationShares shares;
-    if (at_solution.shared_observation_weighting) shares = CountObservationShares(tracks, triplets);
+    if (at_solution.shared_observation_weighting) shares = CountObservationShares(tracks, motions);
     std::vector<LocalHessian> current = hessians;
-    // The triplets with the local frame of each re-linearised model (its similarity from the
+    // The motions with the local frame of each re-linearised model (its similarity from the
     // solution), for SimilarityInit::kFromTriplet.
-    std::vector<Triplet> frames = triplets;
+    std::vector<LocalMotion> frames = motions;
     for (int k = 1; k <= options.max_relinearizations; ++k) {
       Timer pass;
-      std::vector<Triplet> predicted;
+      std::vector<LocalMotion> predicted;
       std::vector<int> index;
-      for (size_t i = 0; i < triplets.size(); ++i) {
+      for (size_t i = 0; i < motions.size(); ++i) {
         if (!(result.irls_weights[i] > 0)) continue;  // not used
-        Triplet t = triplets[i];
+        LocalMotion t = motions[i];
         t.global_to_local = result.similarities[i];
-        for (int v = 0; v < 3; ++v) t.local_poses[v] = t.global_to_local.Apply(result.poses.at(t.image_ids[v]));
+        for (int v = 0; v < t.num_views(); ++v)
+          t.local_poses[v] = t.global_to_local.Apply(result.poses.at(t.image_ids[v]));
         predicted.push_back(std::move(t));
         index.push_back(static_cast<int>(i));
       }
@@ -358,7 +361,7 @@ GlobalBAResult RelinearizedGlobalBA(const Reconstruction& tracks, const LocalHes
       for (size_t j = 0; j < index.size(); ++j) {
         if (lr.hessians[j].status != LocalHessianStatus::kOk) continue;  // keeps its previous model
         current[index[j]] = std::move(lr.hessians[j]);
-        current[index[j]].triplet_index = index[j];
+        current[index[j]].motion_index = index[j];
         frames[index[j]] = std::move(predicted[j]);
         relinearized.push_back(index[j]);
       }
@@ -394,12 +397,12 @@ GlobalBAResult RelinearizedGlobalBA(const Reconstruction& tracks, const LocalHes
   return result;
 }
 
-GlobalBAResult AveragingGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const std::vector<Triplet>& triplets,
+GlobalBAResult AveragingGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const std::vector<LocalMotion>& motions,
                                  const std::vector<LocalHessian>& hessians, const GlobalBAOptions& options,
                                  const GlobalBAIterationCallback& callback, const GcpInput* gcps) {
   GlobalBAOptions scalar = options;
   scalar.weighting = TripletWeighting::kScalar;
-  return RunGlobalBA(initial_poses, triplets, hessians, scalar, callback, gcps);
+  return RunGlobalBA(initial_poses, motions, hessians, scalar, callback, gcps);
 }
 
 }  // namespace pgba

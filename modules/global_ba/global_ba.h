@@ -165,12 +165,12 @@ struct GlobalBAResult {
   GlobalBASummary summary;
 };
 
-// Pointless global BA. `hessians` come from ComputeLocalHessians on `triplets` (matched by
-// LocalHessian::triplet_index; a mismatch of image ids is an InputError). Uses
+// Pointless global BA. `hessians` come from ComputeLocalHessians on `motions` (matched by
+// LocalHessian::motion_index; a mismatch of image ids is an InputError). Uses
 // options.weighting (kHessian by default). Optional `gcps` (paper, "Inclusion of ground
 // control points"; gcp_residual.h): the initial poses must already be in the GCP frame
 // (AlignToGcps of gcp_alignment.h).
-GlobalBAResult PointlessGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const std::vector<Triplet>& triplets,
+GlobalBAResult PointlessGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const std::vector<LocalMotion>& motions,
                                  const std::vector<LocalHessian>& hessians, const GlobalBAOptions& options,
                                  const GlobalBAIterationCallback& callback = nullptr, const GcpInput* gcps = nullptr);
 
@@ -182,12 +182,12 @@ GlobalBAResult PointlessGlobalBA(const std::map<uint32_t, Pose>& initial_poses, 
 // iteration count; the summary adds up iterations, rounds and time over the solves.
 GlobalBAResult RelinearizedGlobalBA(const Reconstruction& tracks, const LocalHessianOptions& lh_options,
                                     const std::map<uint32_t, Pose>& initial_poses,
-                                    const std::vector<Triplet>& triplets, const std::vector<LocalHessian>& hessians,
+                                    const std::vector<LocalMotion>& motions, const std::vector<LocalHessian>& hessians,
                                     const GlobalBAOptions& options, const GlobalBAIterationCallback& callback = nullptr,
                                     const GcpInput* gcps = nullptr);
 
 // Aver_BA: the same problem and code path with TripletWeighting::kScalar.
-GlobalBAResult AveragingGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const std::vector<Triplet>& triplets,
+GlobalBAResult AveragingGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const std::vector<LocalMotion>& motions,
                                  const std::vector<LocalHessian>& hessians, const GlobalBAOptions& options,
                                  const GlobalBAIterationCallback& callback = nullptr, const GcpInput* gcps = nullptr);
 

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <memory>
 
 #include "pgba/geometry/triangulation.h"
@@ -21,74 +22,83 @@ double AttenuationWeight(int num_points, double q) {
 
 namespace {
 
-// Observation of a track in the triplet's view k, if any (first one if an image sees the
-// track twice).
-struct TrackInTriplet {
-  std::array<int, 3> point2D_idx{-1, -1, -1};
-};
-
-// Pose prior of the local BA: A (x - x_in) over the three pose blocks, A^T A = prior.
-struct PosePriorCost {
-  PosePriorCost(const Matrix18d& sqrt_prior, const Vector18d& center) : A(sqrt_prior), center(center) {}
-  template <typename T>
-  bool operator()(const T* p0, const T* p1, const T* p2, T* r) const {
-    const T* poses[3] = {p0, p1, p2};
-    T d[18];
-    for (int k = 0; k < 3; ++k)
-      for (int i = 0; i < 6; ++i) d[6 * k + i] = poses[k][i] - T(center(6 * k + i));
-    for (int i = 0; i < 18; ++i) {
-      r[i] = A(i, 0) * d[0];
-      for (int j = 1; j < 18; ++j) r[i] += A(i, j) * d[j];
-    }
+// Pose prior of the local BA: A (x - x_in) over the N pose blocks, A^T A = prior. Linear in
+// the poses, so its Jacobian is A itself.
+class PosePriorCost : public ceres::CostFunction {
+ public:
+  PosePriorCost(const Eigen::MatrixXd& sqrt_prior, const Eigen::VectorXd& center) : A_(sqrt_prior), center_(center) {
+    set_num_residuals(static_cast<int>(A_.rows()));
+    for (int k = 0; k < A_.cols() / 6; ++k) mutable_parameter_block_sizes()->push_back(6);
+  }
+  bool Evaluate(double const* const* poses, double* residuals, double** jacobians) const override {
+    const int n = static_cast<int>(A_.cols());
+    Eigen::VectorXd d(n);
+    for (int k = 0; k < n / 6; ++k)
+      for (int i = 0; i < 6; ++i) d(6 * k + i) = poses[k][i] - center_(6 * k + i);
+    Eigen::Map<Eigen::VectorXd>(residuals, n) = A_ * d;
+    if (jacobians)
+      for (int k = 0; k < n / 6; ++k)
+        if (jacobians[k])
+          Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor>>(jacobians[k], n, 6) =
+              A_.middleCols<6>(6 * k);
     return true;
   }
-  Matrix18d A;
-  Vector18d center;
+
+ private:
+  Eigen::MatrixXd A_;
+  Eigen::VectorXd center_;
 };
 
 }  // namespace
 
-LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const Triplet& triplet,
+LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const LocalMotion& motion,
                                            const LocalHessianOptions& options, LocalBundleProblem* problem,
                                            const ObservationShares* shares) {
   *problem = LocalBundleProblem();
   problem->huber_px = options.huber_px;
-  std::array<const Image*, 3> images{};
-  for (int k = 0; k < 3; ++k) {
-    const auto it = tracks.images.find(triplet.image_ids[k]);
+  const int n = motion.num_views();
+  if (n < 2 || static_cast<int>(motion.local_poses.size()) != n) return LocalHessianStatus::kInvalidInput;
+  std::vector<const Image*> images(n);
+  problem->poses.resize(n);
+  problem->cameras.resize(n);
+  for (int k = 0; k < n; ++k) {
+    const auto it = tracks.images.find(motion.image_ids[k]);
     if (it == tracks.images.end()) return LocalHessianStatus::kInvalidInput;
     images[k] = &it->second;
     const auto cam = tracks.cameras.find(it->second.camera_id);
     if (cam == tracks.cameras.end()) return LocalHessianStatus::kInvalidInput;
     problem->cameras[k] = &cam->second;
-    const Pose& pose = triplet.local_poses[k];
+    const Pose& pose = motion.local_poses[k];
     if (!pose.q().coeffs().allFinite() || !pose.t().allFinite()) return LocalHessianStatus::kInvalidInput;
     problem->poses[k] = PoseBlock::FromPose(pose);
   }
-  if (triplet.image_ids[0] == triplet.image_ids[1] || triplet.image_ids[0] == triplet.image_ids[2] ||
-      triplet.image_ids[1] == triplet.image_ids[2])
-    return LocalHessianStatus::kInvalidInput;
+  // View of each image in the motion; an image twice is invalid.
+  std::map<uint32_t, int> view_of_image;
+  for (int k = 0; k < n; ++k)
+    if (!view_of_image.emplace(motion.image_ids[k], k).second) return LocalHessianStatus::kInvalidInput;
 
   TriangulationOptions tri;
   tri.huber_px = options.huber_px;
   tri.outlier_px = options.max_reprojection_px;
   tri.min_angle_deg = options.min_triangulation_angle_deg;
-  for (const uint64_t track_id : triplet.track_ids) {
+  // Observation of the current track in each view, if any (the first one if an image sees
+  // the track twice).
+  std::vector<int> point2D_idx(n);
+  for (const uint64_t track_id : motion.track_ids) {
     const auto pit = tracks.points3D.find(track_id);
     if (pit == tracks.points3D.end()) return LocalHessianStatus::kInvalidInput;
-    TrackInTriplet t;
+    std::fill(point2D_idx.begin(), point2D_idx.end(), -1);
     for (const TrackElement& el : pit->second.track) {
-      for (int k = 0; k < 3; ++k) {
-        if (el.image_id != triplet.image_ids[k] || t.point2D_idx[k] >= 0) continue;
-        if (el.point2D_idx >= images[k]->points2D.size()) return LocalHessianStatus::kInvalidInput;
-        t.point2D_idx[k] = static_cast<int>(el.point2D_idx);
-      }
+      const auto v = view_of_image.find(el.image_id);
+      if (v == view_of_image.end() || point2D_idx[v->second] >= 0) continue;
+      if (el.point2D_idx >= images[v->second]->points2D.size()) return LocalHessianStatus::kInvalidInput;
+      point2D_idx[v->second] = static_cast<int>(el.point2D_idx);
     }
     std::vector<TrackView> views;
     std::vector<int> view_of;
-    for (int k = 0; k < 3; ++k) {
-      if (t.point2D_idx[k] < 0) continue;
-      views.push_back({triplet.local_poses[k], problem->cameras[k], images[k]->points2D[t.point2D_idx[k]].xy});
+    for (int k = 0; k < n; ++k) {
+      if (point2D_idx[k] < 0) continue;
+      views.push_back({motion.local_poses[k], problem->cameras[k], images[k]->points2D[point2D_idx[k]].xy});
       view_of.push_back(k);
     }
     if (views.size() < 2) continue;
@@ -100,7 +110,7 @@ LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const T
       if (X.residuals_px[v] <= options.max_reprojection_px) {
         double w = 1.0;
         if (shares) {
-          const auto it = shares->find({triplet.image_ids[view_of[v]], track_id});
+          const auto it = shares->find({motion.image_ids[view_of[v]], track_id});
           if (it != shares->end() && it->second > 0) w = 1.0 / it->second;
         }
         kept.push_back({view_of[v], static_cast<int>(problem->points.size()), views[v].pixel, w});
@@ -112,11 +122,12 @@ LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const T
   const int m = static_cast<int>(problem->points.size());
   if (m < std::max(options.min_points, 1)) return LocalHessianStatus::kTooFewPoints;
   problem->observation_weight = AttenuationWeight(m, options.attenuation_q);
-  for (int k = 0; k < 3; ++k) problem->prior_center.segment<6>(6 * k) = problem->poses[k].x;
+  problem->prior_center.resize(6 * n);
+  for (int k = 0; k < n; ++k) problem->prior_center.segment<6>(6 * k) = problem->poses[k].x;
   return LocalHessianStatus::kOk;
 }
 
-bool SolveLocalBundle(int max_iterations, LocalBundleProblem* p) {
+bool SolveLocalBundle(int max_iterations, LocalBundleProblem* p, bool fix_gauge) {
   if (max_iterations > 0) {
     // Huber on the pixel error, then the attenuation weight on the squared residual; one
     // loss object shared by all observations of weight 1, one of its own for the others
@@ -138,12 +149,13 @@ bool SolveLocalBundle(int max_iterations, LocalBundleProblem* p) {
       problem.AddResidualBlock(ReprojectionError::Create(p->cameras[o.view], p->poses[o.view].R0, o.pixel), l,
                                p->poses[o.view].x.data(), p->points[o.point].data());
     }
-    if (!p->prior.isZero(0.0)) {
-      const Matrix18d A = Eigen::SelfAdjointEigenSolver<Matrix18d>(p->prior).operatorSqrt();
-      problem.AddResidualBlock(
-          new ceres::AutoDiffCostFunction<PosePriorCost, 18, 6, 6, 6>(new PosePriorCost(A, p->prior_center)), nullptr,
-          p->poses[0].x.data(), p->poses[1].x.data(), p->poses[2].x.data());
+    if (p->prior.size() > 0 && !p->prior.isZero(0.0)) {
+      const Eigen::MatrixXd A = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(p->prior).operatorSqrt();
+      std::vector<double*> blocks;
+      for (auto& pose : p->poses) blocks.push_back(pose.x.data());
+      problem.AddResidualBlock(new PosePriorCost(A, p->prior_center), nullptr, blocks);
     }
+    if (fix_gauge && p->poses.size() >= 2) HoldPoseAndScale(&p->poses[0], &p->poses[1], &problem);
     ceres::Solver::Options so;
     so.linear_solver_type = ceres::DENSE_SCHUR;
     auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();

@@ -1,10 +1,9 @@
-// The local bundle adjustment of one triplet (paper eq. 1) in the triplet's frame: its
-// three poses (PoseBlock, the shared [C, omega] chart), its points triangulated from the
-// local poses, and the observations of those points in the three views.
+// The local bundle adjustment of one relative motion (paper eq. 1) in the motion's frame: its
+// N poses (PoseBlock, the shared [C, omega] chart), its points triangulated from the local
+// poses, and the observations of those points in the N views.
 #pragma once
 
 #include <Eigen/Core>
-#include <array>
 #include <vector>
 
 #include "modules/local_hessian/local_hessian.h"
@@ -13,7 +12,7 @@
 namespace pgba {
 
 struct LocalObservation {
-  int view = 0;   // 0..2, position in Triplet::image_ids
+  int view = 0;   // 0..N-1, position in LocalMotion::image_ids
   int point = 0;  // index into LocalBundleProblem::points
   Eigen::Vector2d pixel = Eigen::Vector2d::Zero();
   // Relative weight of this observation's squared residual (times observation_weight).
@@ -21,8 +20,8 @@ struct LocalObservation {
 };
 
 struct LocalBundleProblem {
-  std::array<PoseBlock, 3> poses;
-  std::array<const Camera*, 3> cameras{};
+  std::vector<PoseBlock> poses;
+  std::vector<const Camera*> cameras;
   std::vector<Eigen::Vector3d> points;
   // Grouped by point (all observations of point i are contiguous, in view order).
   std::vector<LocalObservation> observations;
@@ -30,27 +29,32 @@ struct LocalBundleProblem {
   double observation_weight = 1.0;
   double huber_px = 1.0;
   // Optional pose prior of the local BA (PriorPlacement::kLocalBAAndHessian): cost
-  // 1/2 (x - x_in)^T prior (x - x_in) over the stacked 18-vector of the three pose blocks,
-  // centred at the input poses.
-  Matrix18d prior = Matrix18d::Zero();
-  Vector18d prior_center = Vector18d::Zero();
+  // 1/2 (x - x_in)^T prior (x - x_in) over the stacked 6N-vector of the pose blocks,
+  // centred at the input poses (empty: none).
+  Eigen::MatrixXd prior;
+  Eigen::VectorXd prior_center;
+
+  int num_views() const { return static_cast<int>(poses.size()); }
 };
 
 // gamma / M with gamma = M Q / (M + Q) (paper, implementation details); 1 for Q <= 0 or inf.
 double AttenuationWeight(int num_points, double q);
 
-// Collects the triplet's tracks from the tracks model, triangulates each from the local poses
+// Collects the motion's tracks from the tracks model, triangulates each from the local poses
 // (TriangulateTrack), drops gross outlier observations and points with < 2 views. Returns
 // kOk, kInvalidInput or kTooFewPoints.
-LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const Triplet& triplet,
+LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const LocalMotion& motion,
                                            const LocalHessianOptions& options, LocalBundleProblem* problem,
                                            const ObservationShares* shares = nullptr);
 
 // Runs `max_iterations` Levenberg-Marquardt iterations (Ceres, DENSE_SCHUR, single thread:
-// triplets are parallelised outside) on poses and points, then re-linearises the poses
+// motions are parallelised outside) on poses and points, then re-linearises the poses
 // (omega folded into R0) so that h is taken in the chart centred at the solution. False if
 // Ceres could not evaluate the problem.
-bool SolveLocalBundle(int max_iterations, LocalBundleProblem* problem);
+// With `fix_gauge` the first pose and the largest baseline coordinate of the second are held
+// (a BA that must converge from afar, local_motions.h; the local Hessian's single step runs
+// gauge-free instead, so that h is the plain normal matrix).
+bool SolveLocalBundle(int max_iterations, LocalBundleProblem* problem, bool fix_gauge = false);
 
 // Median depth of the observed points in their cameras (local frame units).
 double MedianDepth(const LocalBundleProblem& problem);

@@ -39,15 +39,15 @@ nlohmann::json LocalHessianStatusCounts(const LocalHessianResult& result) {
   return j;
 }
 
-LocalHessian ComputeLocalHessian(const Reconstruction& tracks, const Triplet& triplet, int triplet_index,
+LocalHessian ComputeLocalHessian(const Reconstruction& tracks, const LocalMotion& motion, int motion_index,
                                  const LocalHessianOptions& options, const ObservationShares* shares) {
   LocalHessian out;
-  out.triplet_index = triplet_index;
-  out.image_ids = triplet.image_ids;
-  out.local_poses = triplet.local_poses;
+  out.motion_index = motion_index;
+  out.image_ids = motion.image_ids;
+  out.local_poses = motion.local_poses;
 
   LocalBundleProblem problem;
-  out.status = BuildLocalBundleProblem(tracks, triplet, options, &problem, shares);
+  out.status = BuildLocalBundleProblem(tracks, motion, options, &problem, shares);
   if (out.status != LocalHessianStatus::kOk) return out;
   out.num_points = static_cast<int>(problem.points.size());
   out.num_observations = static_cast<int>(problem.observations.size());
@@ -64,7 +64,7 @@ LocalHessian ComputeLocalHessian(const Reconstruction& tracks, const Triplet& tr
     out.status = LocalHessianStatus::kSolverFailure;
     return out;
   }
-  for (int k = 0; k < 3; ++k) out.local_poses[k] = problem.poses[k].ToPose();
+  for (int k = 0; k < problem.num_views(); ++k) out.local_poses[k] = problem.poses[k].ToPose();
   out.rms_px = RmsReprojectionPx(problem);
   out.depth_scale = MedianDepth(problem);
 
@@ -97,15 +97,15 @@ LocalHessian ComputeLocalHessian(const Reconstruction& tracks, const Triplet& tr
   return out;
 }
 
-ObservationShares CountObservationShares(const Reconstruction& tracks, const std::vector<Triplet>& triplets) {
+ObservationShares CountObservationShares(const Reconstruction& tracks, const std::vector<LocalMotion>& motions) {
   ObservationShares shares;
-  for (const Triplet& t : triplets)
+  for (const LocalMotion& t : motions)
     for (const uint64_t tid : t.track_ids) {
       const auto pit = tracks.points3D.find(tid);
       if (pit == tracks.points3D.end()) continue;
-      for (int k = 0; k < 3; ++k)
+      for (const uint32_t image_id : t.image_ids)
         for (const TrackElement& el : pit->second.track)
-          if (el.image_id == t.image_ids[k]) {
+          if (el.image_id == image_id) {
             ++shares[{el.image_id, tid}];
             break;  // an image seeing the track twice: its first observation (BuildLocalBundleProblem)
           }
@@ -115,22 +115,22 @@ ObservationShares CountObservationShares(const Reconstruction& tracks, const std
 
 LocalHessianResult ComputeLocalHessians(const Reconstruction& tracks, const std::vector<Triplet>& triplets,
                                         const LocalHessianOptions& options) {
-  return ComputeLocalHessians(tracks, triplets, options, nullptr);
+  return ComputeLocalHessians(tracks, MotionsOfTriplets(triplets), options, nullptr);
 }
 
-LocalHessianResult ComputeLocalHessians(const Reconstruction& tracks, const std::vector<Triplet>& triplets,
+LocalHessianResult ComputeLocalHessians(const Reconstruction& tracks, const std::vector<LocalMotion>& motions,
                                         const LocalHessianOptions& options, const ObservationShares* given) {
   LocalHessianResult result;
-  result.hessians.resize(triplets.size());
+  result.hessians.resize(motions.size());
   std::unique_ptr<tbb::global_control> limit;
   if (options.num_threads > 0)
     limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, options.num_threads);
   ObservationShares counted;
-  if (options.shared_observation_weighting && !given) counted = CountObservationShares(tracks, triplets);
+  if (options.shared_observation_weighting && !given) counted = CountObservationShares(tracks, motions);
   const ObservationShares* sp = !options.shared_observation_weighting ? nullptr : given ? given : &counted;
-  // Each triplet writes only its own slot: the result does not depend on scheduling.
-  tbb::parallel_for(size_t(0), triplets.size(), [&](size_t i) {
-    result.hessians[i] = ComputeLocalHessian(tracks, triplets[i], static_cast<int>(i), options, sp);
+  // Each motion writes only its own slot: the result does not depend on scheduling.
+  tbb::parallel_for(size_t(0), motions.size(), [&](size_t i) {
+    result.hessians[i] = ComputeLocalHessian(tracks, motions[i], static_cast<int>(i), options, sp);
   });
   for (const LocalHessian& h : result.hessians) ++result.status_counts[static_cast<int>(h.status)];
   std::string rejected;
@@ -138,7 +138,7 @@ LocalHessianResult ComputeLocalHessians(const Reconstruction& tracks, const std:
     if (result.status_counts[s] > 0)
       rejected += std::string(" ") + LocalHessianStatusName(static_cast<LocalHessianStatus>(s)) + "=" +
                   std::to_string(result.status_counts[s]);
-  PGBA_LOG_INFO << "local hessians: " << result.num_ok() << " of " << triplets.size() << " triplets ok"
+  PGBA_LOG_INFO << "local hessians: " << result.num_ok() << " of " << motions.size() << " motions ok"
                 << (rejected.empty() ? "" : "; rejected:" + rejected);
   return result;
 }

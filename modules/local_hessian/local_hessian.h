@@ -1,16 +1,16 @@
-// Local Hessians of the triplets (paper section 3, "Local bundle adjustment"): per triplet a
-// bundle adjustment in the triplet's own frame over its 3 poses and its points, then the
-// 18x18 camera reduced matrix h (Schur complement on the points, paper eq. 3) and its eigen
-// decomposition h = V^T D^2 V (paper eq. 5), which the pointless global BA consumes.
+// Local Hessians of the relative motions (paper section 3, "Local bundle adjustment"): per
+// motion of N views (the paper's triplets: N = 3) a bundle adjustment in the motion's own
+// frame over its N poses and its points, then the 6N x 6N camera reduced matrix h (Schur
+// complement on the points, paper eq. 3; 18x18 for a triplet) and its eigen decomposition
+// h = V^T D^2 V (paper eq. 5), which the pointless global BA consumes.
 //
 // Chart (ARCHITECTURE.md): per view the 6-vector [c(3), omega(3)] with r = r0 * Exp(omega)
-// around the local BA's solution x0 = {r0_k, c0_k}; h is ordered view 0, 1, 2 of
-// Triplet::image_ids. Units: observations in pixels, so h is in 1/px^2 (times the
+// around the local BA's solution x0 = {r0_k, c0_k}; h is ordered view 0, 1, ..., N-1 of
+// LocalMotion::image_ids. Units: observations in pixels, so h is in 1/px^2 (times the
 // per-observation weight below).
 #pragma once
 
 #include <Eigen/Core>
-#include <array>
 #include <cstdint>
 #include <limits>
 #include <map>
@@ -24,8 +24,13 @@
 
 namespace pgba {
 
-using Matrix18d = Eigen::Matrix<double, 18, 18>;
+using Matrix18d = Eigen::Matrix<double, 18, 18>;  // a triplet's h
 using Vector18d = Eigen::Matrix<double, 18, 1>;
+
+// The 7 directions of a local frame that no reprojection sees (translation, rotation, scale):
+// a motion of N views has 6N - 7 informative ones.
+constexpr int kGaugeDimension = 7;
+inline int InformativeDimension(int num_views) { return 6 * num_views - kGaugeDimension; }
 
 // Where the weak pose prior that fixes the gauge ("all three extrinsics observed") goes.
 enum class PriorPlacement {
@@ -54,7 +59,7 @@ enum class PriorShape {
 };
 NLOHMANN_JSON_SERIALIZE_ENUM(PriorShape, {{PriorShape::kIsotropic, "isotropic"}, {PriorShape::kSimilarity, "similarity"}})
 
-// Number of triplets that use each observation (image id, track id).
+// Number of motions that use each observation (image id, track id).
 using ObservationShares = std::map<std::pair<uint32_t, uint64_t>, int>;
 
 struct LocalHessianOptions {
@@ -85,9 +90,10 @@ struct LocalHessianOptions {
   // of unit scale).
   bool prior_scale_aware = true;
   PriorPlacement prior_placement = PriorPlacement::kHessianOnly;
-  // Rank test: in the scale-aware chart, the 11th largest eigenvalue of h before the prior
-  // (the weakest direction that is not a similarity of the local frame) must be at least this
-  // fraction of the largest, or the triplet is rejected as ill-conditioned.
+  // Rank test: in the scale-aware chart, the (6N - 7)-th largest eigenvalue of h before the
+  // prior (the weakest direction that is not a similarity of the local frame; the 11th of a
+  // triplet) must be at least this fraction of the largest, or the motion is rejected as
+  // ill-conditioned.
   double min_eigenvalue_ratio = 1e-10;
   // Minimum triangulation angle of a triplet point (degrees); 0 keeps every point.
   double min_triangulation_angle_deg = 0.0;
@@ -116,42 +122,44 @@ constexpr int kNumLocalHessianStatus = 6;
 const char* LocalHessianStatusName(LocalHessianStatus status);
 
 struct LocalHessian {
-  int triplet_index = -1;  // into the triplet list given to ComputeLocalHessians
-  std::array<uint32_t, 3> image_ids{};
+  int motion_index = -1;  // into the motion list given to ComputeLocalHessians
+  std::vector<uint32_t> image_ids;
   LocalHessianStatus status = LocalHessianStatus::kInvalidInput;
-  // x0_s: the three local poses after the local BA, the linearisation point of h.
-  std::array<Pose, 3> local_poses;
-  // Camera reduced matrix including the gauge prior: h = h_points + prior.
-  Matrix18d h = Matrix18d::Zero();
+  // x0_s: the N local poses after the local BA, the linearisation point of h.
+  std::vector<Pose> local_poses;
+  // Camera reduced matrix including the gauge prior: h = h_points + prior (6N x 6N).
+  Eigen::MatrixXd h;
   // h = V^T diag(D)^2 V: rows of V are orthonormal eigenvectors, D the square roots of the
   // eigenvalues (negative ones clamped to 0), ascending.
-  Matrix18d V = Matrix18d::Zero();
-  Vector18d D = Vector18d::Zero();
+  Eigen::MatrixXd V;
+  Eigen::VectorXd D;
   // Reduced gradient g of paper eq. 3 at local_poses (same chart and weights as h).
-  Vector18d reduced_gradient = Vector18d::Zero();
+  Eigen::VectorXd reduced_gradient;
   // Minimiser of the quadratic model of paper eq. 3 relative to local_poses: -h^-1 g, in
   // h's chart. The global residual is W_s (x_s - x0_s - newton_step), i.e. it keeps the
   // gradient term that paper eq. 5 drops (zero when the local BA converged; not zero when h
   // is re-linearised away from the triplet's optimum, global_ba.h "relinearization").
-  Vector18d newton_step = Vector18d::Zero();
+  Eigen::VectorXd newton_step;
   // The gauge prior added to h (h = h_points + prior) and its mu.
-  Matrix18d prior = Matrix18d::Zero();
+  Eigen::MatrixXd prior;
   double prior_mu = 0.0;
   // Weight of each observation's squared residual, gamma / M (1 if disabled); with
   // shared_observation_weighting its mean over the triplet's observations.
   double observation_weight = 1.0;
   // Median point depth L in the local frame (the length of the scale-aware chart).
   double depth_scale = 1.0;
-  // Eigenvalue ratio of the rank test (11th largest / largest, scale-aware chart, no prior).
+  // Eigenvalue ratio of the rank test ((6N-7)-th largest / largest, scale-aware chart, no prior).
   double eigenvalue_ratio = 0.0;
   int num_points = 0;
   int num_observations = 0;
   // Unweighted RMS reprojection error (pixels) after the local BA.
   double rms_px = 0.0;
+
+  int num_views() const { return static_cast<int>(image_ids.size()); }
 };
 
 struct LocalHessianResult {
-  std::vector<LocalHessian> hessians;  // one per input triplet, same order
+  std::vector<LocalHessian> hessians;  // one per input motion, same order
   std::array<int, kNumLocalHessianStatus> status_counts{};
   int num_ok() const { return status_counts[0]; }
 };
@@ -159,21 +167,21 @@ struct LocalHessianResult {
 // {status name: count} over every status, "ok" included (report.json records).
 nlohmann::json LocalHessianStatusCounts(const LocalHessianResult& result);
 
-// One triplet (paper eqs. 1-3 and the decomposition of eq. 5). `shares` (for
-// shared_observation_weighting; nullptr: weight 1) counts the triplets using each observation.
-LocalHessian ComputeLocalHessian(const Reconstruction& tracks, const Triplet& triplet, int triplet_index,
+// One motion (paper eqs. 1-3 and the decomposition of eq. 5). `shares` (for
+// shared_observation_weighting; nullptr: weight 1) counts the motions using each observation.
+LocalHessian ComputeLocalHessian(const Reconstruction& tracks, const LocalMotion& motion, int motion_index,
                                  const LocalHessianOptions& options, const ObservationShares* shares = nullptr);
 
-// The ObservationShares of a triplet set: for every triplet, track and view that observes it.
-ObservationShares CountObservationShares(const Reconstruction& tracks, const std::vector<Triplet>& triplets);
+// The ObservationShares of a motion set: for every motion, track and view that observes it.
+ObservationShares CountObservationShares(const Reconstruction& tracks, const std::vector<LocalMotion>& motions);
 
-// Every triplet, in parallel (TBB; results do not depend on the thread count). Logs the
-// counts of rejected triplets per reason.
+// Every motion, in parallel (TBB; results do not depend on the thread count). Logs the
+// counts of rejected motions per reason. `shares`: shared_observation_weighting counted over
+// another motion set (e.g. all of them when re-computing a subset); nullptr: counted here.
+LocalHessianResult ComputeLocalHessians(const Reconstruction& tracks, const std::vector<LocalMotion>& motions,
+                                        const LocalHessianOptions& options, const ObservationShares* shares = nullptr);
+// The paper's case: every triplet as a motion of three views.
 LocalHessianResult ComputeLocalHessians(const Reconstruction& tracks, const std::vector<Triplet>& triplets,
                                         const LocalHessianOptions& options);
-// The same with the observation shares given (shared_observation_weighting counted over
-// another triplet set, e.g. all triplets when re-computing a subset); nullptr: counted here.
-LocalHessianResult ComputeLocalHessians(const Reconstruction& tracks, const std::vector<Triplet>& triplets,
-                                        const LocalHessianOptions& options, const ObservationShares* shares);
 
 }  // namespace pgba

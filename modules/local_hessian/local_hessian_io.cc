@@ -31,7 +31,7 @@ void WriteLocalHessians(const fs::path& path, const Reconstruction& tracks, cons
   std::vector<json> entries;
   for (const LocalHessian& lh : result.hessians) {
     json e;
-    e["triplet_index"] = lh.triplet_index;
+    e["motion_index"] = lh.motion_index;
     e["images"] = json::array();
     for (uint32_t id : lh.image_ids) e["images"].push_back(internal_workspace::NameOf(tracks, id, path));
     e["image_ids"] = lh.image_ids;
@@ -43,8 +43,8 @@ void WriteLocalHessians(const fs::path& path, const Reconstruction& tracks, cons
         e["local_poses"].push_back({{"q", {q.w(), q.x(), q.y(), q.z()}}, {"t", internal_workspace::Array(p.t())}});
       }
       json h = json::array();
-      for (int r = 0; r < 18; ++r)
-        for (int c = 0; c < 18; ++c) h.push_back(lh.h(r, c));
+      for (int r = 0; r < lh.h.rows(); ++r)
+        for (int c = 0; c < lh.h.cols(); ++c) h.push_back(lh.h(r, c));
       e["h"] = h;
       e["observation_weight"] = lh.observation_weight;
       e["depth_scale"] = lh.depth_scale;
@@ -53,7 +53,7 @@ void WriteLocalHessians(const fs::path& path, const Reconstruction& tracks, cons
       e["num_observations"] = lh.num_observations;
       e["rms_px"] = lh.rms_px;
       e["eigenvalue_ratio"] = lh.eigenvalue_ratio;
-      e["newton_step"] = std::vector<double>(lh.newton_step.data(), lh.newton_step.data() + 18);
+      e["newton_step"] = std::vector<double>(lh.newton_step.data(), lh.newton_step.data() + lh.newton_step.size());
     }
     entries.push_back(std::move(e));
   }
@@ -61,46 +61,53 @@ void WriteLocalHessians(const fs::path& path, const Reconstruction& tracks, cons
 }
 
 LocalHessianResult ReadLocalHessians(const fs::path& path, const Reconstruction& tracks,
-                                     const std::vector<Triplet>& triplets) {
+                                     const std::vector<LocalMotion>& motions) {
   const WorkspaceJsonReader reader(path, tracks);
   const json entries = reader.Load(kFormat, "hessians");
-  if (entries.size() != triplets.size())
-    reader.Fail("", std::to_string(entries.size()) + " hessians for " + std::to_string(triplets.size()) +
-                        " triplets (workspace of another run? re-run the local hessian stage)");
+  if (entries.size() != motions.size())
+    reader.Fail("", std::to_string(entries.size()) + " hessians for " + std::to_string(motions.size()) +
+                        " motions (workspace of another run? re-run the local hessian stage)");
   LocalHessianResult result;
   for (size_t k = 0; k < entries.size(); ++k) {
     const std::string where = "hessians[" + std::to_string(k) + "]";
     const json& e = entries[k];
     LocalHessian lh;
-    lh.triplet_index = static_cast<int>(reader.Integer(reader.Field(e, "triplet_index", where), where));
-    if (lh.triplet_index != static_cast<int>(k)) reader.Fail(where, "triplet_index must be " + std::to_string(k));
+    const char* index_key = e.contains("motion_index") ? "motion_index" : "triplet_index";
+    lh.motion_index = static_cast<int>(reader.Integer(reader.Field(e, index_key, where), where));
+    if (lh.motion_index != static_cast<int>(k))
+      reader.Fail(where, std::string(index_key) + " must be " + std::to_string(k));
     const json& names = reader.Field(e, "images", where);
     const json& ids = reader.Field(e, "image_ids", where);
-    if (!names.is_array() || names.size() != 3 || !ids.is_array() || ids.size() != 3)
-      reader.Fail(where, "\"images\" and \"image_ids\" must hold three entries");
-    for (int v = 0; v < 3; ++v) {
+    const size_t n = motions[k].image_ids.size();
+    if (!names.is_array() || names.size() != n || !ids.is_array() || ids.size() != n)
+      reader.Fail(where, "\"images\" and \"image_ids\" must hold " + std::to_string(n) +
+                             " entries, the views of motion " + std::to_string(k) + " (another run?)");
+    lh.image_ids.resize(n);
+    for (size_t v = 0; v < n; ++v) {
       lh.image_ids[v] = reader.Image(names[v], ids[v], where);
-      if (lh.image_ids[v] != triplets[k].image_ids[v])
-        reader.Fail(where, "images differ from triplet " + std::to_string(k) + " of the workspace (another run?)");
+      if (lh.image_ids[v] != motions[k].image_ids[v])
+        reader.Fail(where, "images differ from motion " + std::to_string(k) + " of the workspace (another run?)");
     }
     lh.status = StatusFromName(reader, reader.Field(e, "status", where), where + ".status");
     if (lh.status == LocalHessianStatus::kOk) {
+      const int dim = 6 * static_cast<int>(n);
       const json& poses = reader.Field(e, "local_poses", where);
-      if (!poses.is_array() || poses.size() != 3) reader.Fail(where, "\"local_poses\" must hold three entries");
-      for (int v = 0; v < 3; ++v) {
+      if (!poses.is_array() || poses.size() != n)
+        reader.Fail(where, "\"local_poses\" must hold " + std::to_string(n) + " entries");
+      lh.local_poses.resize(n);
+      for (size_t v = 0; v < n; ++v) {
         const std::string pw = where + ".local_poses[" + std::to_string(v) + "]";
         const Eigen::Vector4d q = reader.Numbers<4>(reader.Field(poses[v], "q", pw), pw + ".q");
         if (!(q.norm() > 0.5 && q.norm() < 2.0)) reader.Fail(pw, "quaternion is not unit");
         lh.local_poses[v] = Pose::FromQt(Eigen::Quaterniond(q(0), q(1), q(2), q(3)),
                                          reader.Numbers<3>(reader.Field(poses[v], "t", pw), pw + ".t"));
       }
-      const Eigen::Matrix<double, 324, 1> h = reader.Numbers<324>(reader.Field(e, "h", where), where + ".h");
-      for (int r = 0; r < 18; ++r)
-        for (int c = 0; c < 18; ++c) lh.h(r, c) = h(18 * r + c);
+      const Eigen::VectorXd h = reader.Numbers(reader.Field(e, "h", where), dim * dim, where + ".h");
+      lh.h = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(h.data(), dim, dim);
       const double scale = lh.h.cwiseAbs().maxCoeff();
       if (!(scale > 0)) reader.Fail(where + ".h", "zero matrix");
       if ((lh.h - lh.h.transpose()).cwiseAbs().maxCoeff() > 1e-9 * scale) reader.Fail(where + ".h", "not symmetric");
-      if (Eigen::SelfAdjointEigenSolver<Matrix18d>(lh.h, Eigen::EigenvaluesOnly).eigenvalues()(0) < -1e-9 * scale)
+      if (Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(lh.h, Eigen::EigenvaluesOnly).eigenvalues()(0) < -1e-9 * scale)
         reader.Fail(where + ".h", "not positive semi-definite");
       DecomposeReducedMatrix(lh.h, &lh.V, &lh.D);  // paper eq. 5
       lh.observation_weight = reader.Number(reader.Field(e, "observation_weight", where), where);
@@ -113,8 +120,8 @@ LocalHessianResult ReadLocalHessians(const fs::path& path, const Reconstruction&
       lh.rms_px = reader.Number(reader.Field(e, "rms_px", where), where);
       lh.eigenvalue_ratio = reader.Number(reader.Field(e, "eigenvalue_ratio", where), where);
       // Optional (files written before it existed: 0, the paper's eq. 5 without gradient).
-      if (e.contains("newton_step"))
-        lh.newton_step = reader.Numbers<18>(e["newton_step"], where + ".newton_step");
+      lh.newton_step = e.contains("newton_step") ? reader.Numbers(e["newton_step"], dim, where + ".newton_step")
+                                                 : Eigen::VectorXd::Zero(dim);
     }
     ++result.status_counts[static_cast<int>(lh.status)];
     result.hessians.push_back(lh);

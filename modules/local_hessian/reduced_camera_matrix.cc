@@ -48,6 +48,10 @@ bool PseudoInverse3(const Eigen::Matrix3d& A, Eigen::Matrix3d* inv) {
 
 ReducedCameraSystem ReducedCameraMatrix(const LocalBundleProblem& p) {
   ReducedCameraSystem out;
+  const int n = 6 * p.num_views();
+  out.h = Eigen::MatrixXd::Zero(n, n);
+  out.g = Eigen::VectorXd::Zero(n);
+  Eigen::Matrix<double, Eigen::Dynamic, 3> Hcp(n, 3);
   const double huber2 = p.huber_px * p.huber_px;
   size_t begin = 0;
   while (begin < p.observations.size()) {
@@ -55,7 +59,7 @@ ReducedCameraSystem ReducedCameraMatrix(const LocalBundleProblem& p) {
     while (end < p.observations.size() && p.observations[end].point == p.observations[begin].point) ++end;
     Eigen::Matrix3d Hpp = Eigen::Matrix3d::Zero();
     Eigen::Vector3d gp = Eigen::Vector3d::Zero();
-    Eigen::Matrix<double, 18, 3> Hcp = Eigen::Matrix<double, 18, 3>::Zero();
+    Hcp.setZero();
     for (size_t i = begin; i < end; ++i) {
       const LocalObservation& o = p.observations[i];
       Eigen::Vector2d r;
@@ -75,7 +79,13 @@ ReducedCameraSystem ReducedCameraMatrix(const LocalBundleProblem& p) {
     }
     Eigen::Matrix3d Hpp_inv;
     if (PseudoInverse3(Hpp, &Hpp_inv)) {
-      out.h -= Hcp * Hpp_inv * Hcp.transpose();
+      // Only the views of this point: H_cp is zero elsewhere (a 6N x 6N product per point
+      // would make long motions quadratic in N for nothing).
+      for (size_t a = begin; a < end; ++a)
+        for (size_t b = begin; b < end; ++b) {
+          const int ca = 6 * p.observations[a].view, cb = 6 * p.observations[b].view;
+          out.h.block<6, 6>(ca, cb) -= Hcp.middleRows<6>(ca) * Hpp_inv * Hcp.middleRows<6>(cb).transpose();
+        }
       out.g -= Hcp * (Hpp_inv * gp);
       ++out.num_points_used;
     }
@@ -86,12 +96,14 @@ ReducedCameraSystem ReducedCameraMatrix(const LocalBundleProblem& p) {
   return out;
 }
 
-Eigen::Matrix<double, 18, 7> SimilarityGenerators(const std::array<PoseBlock, 3>& poses, double L) {
+Eigen::Matrix<double, Eigen::Dynamic, 7> SimilarityGenerators(const std::vector<PoseBlock>& poses, double L) {
   // X' = (1 + s) Exp(theta) (X - g) + g + t maps c_k to c_k + t + theta x (c_k - g) + s (c_k - g)
   // and r_k to r_k Exp(-theta), i.e. omega_k to omega_k - theta (first order).
-  const Eigen::Vector3d g = (poses[0].x.head<3>() + poses[1].x.head<3>() + poses[2].x.head<3>()) / 3.0;
-  Eigen::Matrix<double, 18, 7> G = Eigen::Matrix<double, 18, 7>::Zero();
-  for (int k = 0; k < 3; ++k) {
+  const int n = static_cast<int>(poses.size());
+  Eigen::Vector3d g = Eigen::Vector3d::Zero();
+  for (const PoseBlock& b : poses) g += b.x.head<3>() / n;
+  Eigen::Matrix<double, Eigen::Dynamic, 7> G = Eigen::Matrix<double, Eigen::Dynamic, 7>::Zero(6 * n, 7);
+  for (int k = 0; k < n; ++k) {
     const Eigen::Vector3d d = poses[k].x.head<3>() - g;
     G.block<3, 3>(6 * k, 0) = Eigen::Matrix3d::Identity() / L;
     G.block<3, 3>(6 * k, 3) = -Skew(d) / L;  // theta x d = -[d]_x theta
@@ -101,36 +113,39 @@ Eigen::Matrix<double, 18, 7> SimilarityGenerators(const std::array<PoseBlock, 3>
   return G;
 }
 
-GaugePrior ComputeGaugePrior(const Matrix18d& h, const std::array<PoseBlock, 3>& poses, double depth_scale,
+GaugePrior ComputeGaugePrior(const Eigen::MatrixXd& h, const std::vector<PoseBlock>& poses, double depth_scale,
                              const LocalHessianOptions& options) {
   GaugePrior prior;
+  const int n = 6 * static_cast<int>(poses.size());
+  prior.P = Eigen::MatrixXd::Zero(n, n);
+  if (h.rows() != n || h.cols() != n || n <= kGaugeDimension) return prior;
   const double L = options.prior_scale_aware && depth_scale > 0 ? depth_scale : 1.0;
-  Vector18d s;  // [c, omega] = diag(s) [c / L, omega]
-  for (int k = 0; k < 3; ++k) s.segment<6>(6 * k) << L, L, L, 1.0, 1.0, 1.0;
-  const Matrix18d hs = s.asDiagonal() * h * s.asDiagonal();
-  Eigen::SelfAdjointEigenSolver<Matrix18d> es(hs, Eigen::EigenvaluesOnly);
+  Eigen::VectorXd s(n);  // [c, omega] = diag(s) [c / L, omega]
+  for (int k = 0; k < n / 6; ++k) s.segment<6>(6 * k) << L, L, L, 1.0, 1.0, 1.0;
+  const Eigen::MatrixXd hs = s.asDiagonal() * h * s.asDiagonal();
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(hs, Eigen::EigenvaluesOnly);
   if (es.info() != Eigen::Success) return prior;
-  const Vector18d ev = es.eigenvalues();  // ascending
-  const double lmax = ev(17);
+  const Eigen::VectorXd ev = es.eigenvalues();  // ascending
+  const double lmax = ev(n - 1);
   if (!(lmax > 0) || !std::isfinite(lmax)) return prior;
-  // 18 - 7 = 11 directions are not similarities of the local frame; the weakest is ev(7).
-  prior.eigenvalue_ratio = ev(7) / lmax;
+  // 6N - 7 directions are not similarities of the local frame; the weakest is ev(7).
+  prior.eigenvalue_ratio = ev(kGaugeDimension) / lmax;
   prior.mu = options.prior_relative * lmax;
-  Matrix18d Ps;  // in the scaled chart
+  Eigen::MatrixXd Ps;  // in the scaled chart
   if (options.prior_shape == PriorShape::kIsotropic) {
-    Ps = prior.mu * Matrix18d::Identity();
+    Ps = prior.mu * Eigen::MatrixXd::Identity(n, n);
   } else {
-    const Eigen::HouseholderQR<Eigen::Matrix<double, 18, 7>> qr(SimilarityGenerators(poses, L));
-    const Eigen::Matrix<double, 18, 7> Q = qr.householderQ() * Eigen::Matrix<double, 18, 7>::Identity();
+    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(SimilarityGenerators(poses, L));
+    const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(n, kGaugeDimension);
     Ps = prior.mu * Q * Q.transpose();
   }
-  const Vector18d inv_s = s.cwiseInverse();
+  const Eigen::VectorXd inv_s = s.cwiseInverse();
   prior.P = inv_s.asDiagonal() * Ps * inv_s.asDiagonal();
   return prior;
 }
 
-void DecomposeReducedMatrix(const Matrix18d& h, Matrix18d* V, Vector18d* D) {
-  Eigen::SelfAdjointEigenSolver<Matrix18d> es(h);
+void DecomposeReducedMatrix(const Eigen::MatrixXd& h, Eigen::MatrixXd* V, Eigen::VectorXd* D) {
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(h);
   *V = es.eigenvectors().transpose();
   *D = es.eigenvalues().cwiseMax(0.0).cwiseSqrt();
 }

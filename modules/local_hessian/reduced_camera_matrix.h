@@ -8,9 +8,9 @@
 namespace pgba {
 
 struct ReducedCameraSystem {
-  Matrix18d h = Matrix18d::Zero();  // H_cc - H_cp H_pp^-1 H_pc
-  Vector18d g = Vector18d::Zero();  // g_c - H_cp H_pp^-1 g_p
-  int num_points_used = 0;          // points whose H_pp was invertible
+  Eigen::MatrixXd h;        // H_cc - H_cp H_pp^-1 H_pc (6N x 6N)
+  Eigen::VectorXd g;        // g_c - H_cp H_pp^-1 g_p
+  int num_points_used = 0;  // points whose H_pp was invertible
 };
 
 // Normal equations H = J^T W J of the weighted, Huber-robustified reprojection residuals
@@ -22,29 +22,29 @@ struct ReducedCameraSystem {
 // not included (see AddGaugePrior).
 ReducedCameraSystem ReducedCameraMatrix(const LocalBundleProblem& problem);
 
-// The prior that fixes the 7-dim similarity gauge of h ("all three extrinsics observed"),
-// and the rank test of the triplet.
+// The prior that fixes the 7-dim similarity gauge of h ("all extrinsics observed"), and the
+// rank test of the motion.
 struct GaugePrior {
-  Matrix18d P = Matrix18d::Zero();  // added to h
+  Eigen::MatrixXd P;  // added to h
   double mu = 0.0;
-  // 11th largest / largest eigenvalue of h (before the prior) in the chart used for mu.
+  // (6N-7)-th largest / largest eigenvalue of h (before the prior) in the chart used for mu.
   double eigenvalue_ratio = 0.0;
 };
 
 // The directions h cannot see: the infinitesimal similarities of the local frame acting on
 // the poses (translation, rotation about the centroid of the centres, scale about it), in
-// the chart [c / L, omega] (L = 1 for the plain chart); 18 x 7, not orthonormal.
-Eigen::Matrix<double, 18, 7> SimilarityGenerators(const std::array<PoseBlock, 3>& poses, double L);
+// the chart [c / L, omega] (L = 1 for the plain chart); 6N x 7, not orthonormal.
+Eigen::Matrix<double, Eigen::Dynamic, 7> SimilarityGenerators(const std::vector<PoseBlock>& poses, double L);
 
 // mu = prior_relative * lambda_max, lambda_max the largest eigenvalue of h in the chart
 // [c / L, omega] (L = depth_scale if options.prior_scale_aware, else 1). P = mu I
 // (kIsotropic) or mu times the orthogonal projector onto SimilarityGenerators
 // (kSimilarity), in that chart, mapped back to [c, omega].
-GaugePrior ComputeGaugePrior(const Matrix18d& h, const std::array<PoseBlock, 3>& poses, double depth_scale,
+GaugePrior ComputeGaugePrior(const Eigen::MatrixXd& h, const std::vector<PoseBlock>& poses, double depth_scale,
                              const LocalHessianOptions& options);
 
 // h = V^T diag(D)^2 V (paper eq. 5): rows of V orthonormal eigenvectors, eigenvalues
 // ascending, negative ones (rounding) clamped to 0 before the square root.
-void DecomposeReducedMatrix(const Matrix18d& h, Matrix18d* V, Vector18d* D);
+void DecomposeReducedMatrix(const Eigen::MatrixXd& h, Eigen::MatrixXd* V, Eigen::VectorXd* D);
 
 }  // namespace pgba

@@ -27,23 +27,36 @@ const char* RefinementMethodName(RefinementMethod method) {
 
 void AddRefinementSections(ConfigSchema* schema) {
   const RefinementOptions defaults;
-  schema->Add("local_hessian", defaults.local_hessian)
+  schema->Add("local_motions", defaults.local_motions)
+      .Add("local_hessian", defaults.local_hessian)
       .Add("global_ba", defaults.global_ba)
       .Add("point_based", defaults.point_based);
 }
 
 void ReadRefinementOptions(const Config& config, RefinementOptions* options) {
+  ReadSection(config, "local_motions", &options->local_motions);
   ReadSection(config, "local_hessian", &options->local_hessian);
   ReadSection(config, "global_ba", &options->global_ba);
   ReadSection(config, "point_based", &options->point_based);
 }
 
-PreparedHessians PrepareLocalHessians(const Reconstruction& tracks, const std::vector<Triplet>& triplets,
-                                      const LocalHessianOptions& options) {
+PreparedHessians PrepareLocalHessians(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
+                                      const std::vector<Triplet>& triplets, const RefinementOptions& options) {
   ResetPeakRss();
   Timer timer;
   PreparedHessians out;
-  out.result = ComputeLocalHessians(tracks, triplets, options);
+  std::map<uint32_t, Pose> start = initial;
+  if (options.local_motions.views > 3) {
+    // N-view motions start where the triplets' pointless BA ends: the initial poses are too
+    // far from the local optima of long motions (local_motions.h).
+    PGBA_LOG_INFO << "local motions: the triplets' pointless BA gives the motions their starting poses";
+    const LocalHessianResult triplet_hessians = ComputeLocalHessians(tracks, triplets, options.local_hessian);
+    start = RelinearizedGlobalBA(tracks, options.local_hessian, initial, MotionsOfTriplets(triplets),
+                                 triplet_hessians.hessians, options.global_ba)
+                .poses;
+  }
+  out.motions = BuildLocalMotions(tracks, start, triplets, options.local_hessian, options.local_motions);
+  out.result = ComputeLocalHessians(tracks, out.motions, options.local_hessian);
   out.seconds = timer.Seconds();
   out.peak_rss_mb = PeakRssMb();
   return out;
@@ -101,10 +114,9 @@ RefinementResult RefinePointBased(const Reconstruction& tracks, const std::map<u
   return r;
 }
 
-RefinementResult RefineWithTriplets(RefinementMethod method, const Reconstruction& tracks,
-                                    const std::map<uint32_t, Pose>& initial, const std::vector<Triplet>& triplets,
-                                    const PreparedHessians& hessians, const RefinementOptions& options,
-                                    bool record_history, const GcpInput* gcps) {
+RefinementResult RefineWithMotions(RefinementMethod method, const Reconstruction& tracks,
+                                   const std::map<uint32_t, Pose>& initial, const PreparedHessians& hessians,
+                                   const RefinementOptions& options, bool record_history, const GcpInput* gcps) {
   RefinementResult r;
   r.prepare_seconds = hessians.seconds;
   ResetPeakRss();
@@ -114,16 +126,17 @@ RefinementResult RefineWithTriplets(RefinementMethod method, const Reconstructio
   // disagree (global_ba.h); their passes count as adjustment time.
   const GlobalBAResult g =
       method == RefinementMethod::kPointless
-          ? RelinearizedGlobalBA(tracks, options.local_hessian, initial, triplets, hessians.result.hessians,
+          ? RelinearizedGlobalBA(tracks, options.local_hessian, initial, hessians.motions, hessians.result.hessians,
                                  options.global_ba, callback, gcps)
-          : AveragingGlobalBA(initial, triplets, hessians.result.hessians, options.global_ba, callback, gcps);
+          : AveragingGlobalBA(initial, hessians.motions, hessians.result.hessians, options.global_ba, callback, gcps);
   r.adjust_seconds = g.summary.seconds;
   r.peak_rss_mb = std::max(PeakRssMb(), hessians.peak_rss_mb);
   r.poses = g.poses;
   r.excluded_images = g.summary.excluded_images;
   r.num_params = g.summary.num_params;
   r.iterations = g.summary.iterations;
-  r.details = {{"triplets_used", g.summary.num_triplets},
+  r.details = {{"motion_views", options.local_motions.views > 3 ? options.local_motions.views : 3},
+               {"triplets_used", g.summary.num_triplets},
                {"triplets_excluded", g.summary.num_triplets_excluded},
                {"triplets_downweighted", g.summary.num_triplets_downweighted},
                {"rounds", g.summary.rounds},
@@ -157,7 +170,7 @@ RefinementResult RefinePoses(RefinementMethod method, const Reconstruction& trac
     r.prepare_seconds += split_seconds;
   } else {
     if (!hessians) throw std::invalid_argument("RefinePoses: local hessians are required for this method");
-    r = RefineWithTriplets(method, tracks, initial, triplets, *hessians, options, record_history, gcps);
+    r = RefineWithMotions(method, tracks, initial, *hessians, options, record_history, gcps);
   }
   r.method = method;
   PGBA_LOG_INFO << RefinementMethodName(method) << ": " << r.poses.size() << " poses, " << r.num_params

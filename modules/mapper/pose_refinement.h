@@ -1,7 +1,8 @@
 // The final adjustment of the initial global solution (paper steps 3 and 4), by one of three
 // methods that start from the same initial poses and the same tracks:
-//   pointless  — local Hessian BA per triplet (section 3, eqs. 1-3), then the pointless
-//                global BA weighted by the 18x18 reduced camera matrices (eq. 5);
+//   pointless  — local Hessian BA per relative motion (section 3, eqs. 1-3: the triplets,
+//                or motions of N views, local_motions.h), then the pointless global BA
+//                weighted by the 6N x 6N reduced camera matrices (eq. 5; 18x18 per triplet);
 //   averaging  — Aver_BA: the same relative motions and solver, scalar weights instead of
 //                the Hessians (IRLS motion averaging, the paper's baseline);
 //   pointbased — classical BA over poses and triangulated points (Huber, Schur complement);
@@ -20,6 +21,7 @@
 
 #include "global_ba/global_ba.h"
 #include "local_hessian/local_hessian.h"
+#include "local_hessian/local_motions.h"
 #include "pgba/io/json_config.h"
 #include "pgba/optim/bundle_adjuster.h"
 #include "pgba/scene/reconstruction.h"
@@ -52,6 +54,7 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(PointBasedOptions, bundle, first
 
 // One options struct per stage, each read from the config section of the same name.
 struct RefinementOptions {
+  LocalMotionOptions local_motions;   // section "local_motions"
   LocalHessianOptions local_hessian;  // section "local_hessian"
   GlobalBAOptions global_ba;          // section "global_ba" (pointless and averaging)
   PointBasedOptions point_based;      // section "point_based"
@@ -75,18 +78,21 @@ struct RefinementResult {
   nlohmann::json details = nlohmann::json::object();  // method-specific counts
 };
 
-// Local Hessians of the kept triplets, shared by pointless and averaging (the benchmark
-// computes them once). Logged and counted per rejection reason.
+// The relative motions (the triplets, or N-view motions built from the initial poses:
+// options.local_motions) and their local Hessians, shared by pointless and averaging (the
+// benchmark computes them once). Logged and counted per rejection reason. `seconds` covers
+// both (building N-view motions includes their local BAs).
 struct PreparedHessians {
-  LocalHessianResult result;
+  std::vector<LocalMotion> motions;
+  LocalHessianResult result;  // one per motion
   double seconds = 0.0;
   double peak_rss_mb = 0.0;
 };
-PreparedHessians PrepareLocalHessians(const Reconstruction& tracks, const std::vector<Triplet>& triplets,
-                                      const LocalHessianOptions& options);
+PreparedHessians PrepareLocalHessians(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
+                                      const std::vector<Triplet>& triplets, const RefinementOptions& options);
 
 // Refines `initial` by `method`. `hessians` (from PrepareLocalHessians on the same
-// triplets) is required for pointless and averaging and ignored by pointbased. Throws
+// initialisation) is required for pointless and averaging and ignored by pointbased. Throws
 // InputError when the method cannot run (no usable triplet, no point). Optional `gcps`:
 // GCP residuals of the pointless / averaging global BA (`initial` already in the GCP frame,
 // gcp_alignment.h); ignored by pointbased.

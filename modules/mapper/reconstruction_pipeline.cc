@@ -59,9 +59,10 @@ void Refine(const Reconstruction& tracks, const ReconstructionOptions& options, 
             bool hessians_given, ReconstructionOutput* out) {
   if (!hessians_given) {
     StageTimer timer(report, "local_hessians");
-    out->hessians = PrepareLocalHessians(tracks, out->init.init.triplets, options.refinement.local_hessian);
+    out->hessians = PrepareLocalHessians(tracks, out->init.init.poses, out->init.init.triplets, options.refinement);
     nlohmann::json& stage = timer.Stop();
     stage["triplets"] = out->init.init.triplets.size();
+    stage["motions"] = out->hessians.motions.size();
     stage["ok"] = out->hessians.result.num_ok();
     stage["rejected"] = LocalHessianStatusCounts(out->hessians.result);
     stage["rejected"].erase(LocalHessianStatusName(LocalHessianStatus::kOk));
@@ -141,7 +142,11 @@ ReconstructionOutput ReconstructFromWorkspace(const Reconstruction& tracks, cons
   const bool given = fs::exists(hessians);
   if (given) {
     StageTimer timer(report, "local_hessians");
-    out.hessians.result = ReadLocalHessians(hessians, tracks, out.init.init.triplets);
+    // The motions again (without their local BAs: the file holds each model's own x0).
+    const LocalMotionOptions& lm = options.refinement.local_motions;
+    out.hessians.motions = lm.views > 3 ? SelectLocalMotions(tracks, out.init.init.poses, lm)
+                                        : MotionsOfTriplets(out.init.init.triplets);
+    out.hessians.result = ReadLocalHessians(hessians, tracks, out.hessians.motions);
     nlohmann::json& stage = timer.Stop();
     stage["read_from"] = hessians.string();
     stage["ok"] = out.hessians.result.num_ok();

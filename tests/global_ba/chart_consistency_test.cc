@@ -8,9 +8,9 @@
 
 #include <random>
 
-#include "modules/global_ba/triplet_residual.h"
-#include "modules/global_ba/triplet_similarity.h"
-#include "modules/global_ba/triplet_weighting.h"
+#include "modules/global_ba/motion_residual.h"
+#include "modules/global_ba/motion_similarity.h"
+#include "modules/global_ba/motion_weighting.h"
 #include "modules/local_hessian/local_bundle.h"
 #include "tests/local_hessian/ring_scene.h"
 
@@ -21,8 +21,8 @@ using testing::MakeRingScene;
 using testing::MakeTriplet;
 using testing::RingSceneOptions;
 
-double CostWithPointsOptimised(const LocalBundleProblem& p, const std::array<Pose, 3>& poses) {
-  std::array<PoseBlock, 3> blocks;
+double CostWithPointsOptimised(const LocalBundleProblem& p, const std::vector<Pose>& poses) {
+  std::vector<PoseBlock> blocks(3);
   std::vector<Eigen::Vector3d> points = p.points;
   ceres::Problem problem;
   for (int k = 0; k < 3; ++k) {
@@ -57,27 +57,27 @@ TEST(ChartConsistency, GlobalResidualPredictsReprojectionCost) {
   const Triplet t = MakeTriplet(rec, {5, 6, 8}, rng);
   const LocalHessian lh = ComputeLocalHessian(rec, t, 0, LocalHessianOptions());
   ASSERT_EQ(lh.status, LocalHessianStatus::kOk);
-  Triplet t0 = t;
+  LocalMotion t0 = t;
   t0.local_poses = lh.local_poses;
   LocalBundleProblem p;
   ASSERT_EQ(BuildLocalBundleProblem(rec, t0, LocalHessianOptions(), &p), LocalHessianStatus::kOk);
 
   // Global side: true poses, the exact similarity, W = D V.
-  std::array<Pose, 3> global;
-  std::array<PoseBlock, 3> blocks;
-  std::array<Eigen::Matrix3d, 3> R0;
+  std::vector<Pose> global(3);
+  std::vector<PoseBlock> blocks(3);
+  std::vector<Eigen::Matrix3d> R0(3);
   for (int k = 0; k < 3; ++k) {
     global[k] = rec.images.at(t.image_ids[k]).pose;
     blocks[k] = PoseBlock::FromPose(global[k]);
     R0[k] = blocks[k].R0;
   }
-  const TripletSimilarity sim = SimilarityFromSim3(global, t.global_to_local);
-  const TripletMotionResidual residual(R0, sim, lh.local_poses, TripletWeightMatrix(lh, GlobalBAOptions()));
+  const MotionSimilarity sim = SimilarityFromSim3(global, t.global_to_local);
+  const Eigen::MatrixXd W = MotionWeightMatrix(lh, GlobalBAOptions());
   // Global cost with the poses fixed and the similarity minimised over.
-  auto global_cost = [&](std::array<PoseBlock, 3> b) {
-    TripletSimilarity s = sim;
+  auto global_cost = [&](std::vector<PoseBlock> b) {
+    MotionSimilarity s = sim;
     ceres::Problem problem;
-    problem.AddResidualBlock(TripletMotionResidual::Create(residual), nullptr, b[0].x.data(), b[1].x.data(),
+    problem.AddResidualBlock(new MotionResidual(R0, sim, lh.local_poses, W), nullptr, b[0].x.data(), b[1].x.data(),
                              b[2].x.data(), s.x.data());
     for (auto& block : b) problem.SetParameterBlockConstant(block.x.data());
     ceres::Solver::Options so;
@@ -103,7 +103,7 @@ TEST(ChartConsistency, GlobalResidualPredictsReprojectionCost) {
       for (int i = 0; i < 3; ++i) dir(trial < 2 ? i : 3 + i) = n(rng);
       dir.normalize();
       // Step size for a cost increase of ~1e-4 (second-order regime).
-      std::array<PoseBlock, 3> moved = blocks;
+      std::vector<PoseBlock> moved = blocks;
       moved[view].x += 1e-6 * dir;
       const double c1 = global_cost(moved);
       const double eps = 1e-6 * std::sqrt(1e-4 / c1);
@@ -111,7 +111,7 @@ TEST(ChartConsistency, GlobalResidualPredictsReprojectionCost) {
       moved[view].x += eps * dir;
       const double predicted = global_cost(moved);
       // Truth: local poses = similarity applied to the moved global poses; reprojection cost.
-      std::array<Pose, 3> local;
+      std::vector<Pose> local(3);
       for (int k = 0; k < 3; ++k) local[k] = t.global_to_local.Apply(moved[k].ToPose());
       const double actual = CostWithPointsOptimised(p, local);
       EXPECT_NEAR(predicted / actual, 1.0, 2e-3) << "view " << view << " trial " << trial;
@@ -119,7 +119,7 @@ TEST(ChartConsistency, GlobalResidualPredictsReprojectionCost) {
       // Power of the test: the same move read in a wrong chart (rotation increment on the
       // left, R = Exp(omega) R0) is not what the residual predicts.
       if (trial >= 2) {
-        std::array<Pose, 3> wrong = local;
+        std::vector<Pose> wrong = local;
         const Pose g = Pose::FromRC(ExpSO3(eps * dir.tail<3>()) * blocks[view].R0, blocks[view].x.head<3>());
         wrong[view] = t.global_to_local.Apply(g);
         EXPECT_GT(std::abs(CostWithPointsOptimised(p, wrong) / predicted - 1.0), 0.05);

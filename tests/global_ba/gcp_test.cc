@@ -72,7 +72,7 @@ CentreErrors RawCentreErrors(const std::map<uint32_t, Pose>& est, const std::map
 }
 
 TEST(GcpResidual, IsTheWhitenedGapToTheInverseSimilarity) {
-  TripletSimilarity sim;
+  MotionSimilarity sim;
   sim.alpha0 = Eigen::AngleAxisd(0.4, Eigen::Vector3d(0.3, -1, 0.2).normalized()).toRotationMatrix();
   sim.G = Eigen::Vector3d(5, -3, 2);
   sim.x << 0.5, -0.2, 1.5, 0.01, -0.02, 0.03, 1.7;  // beta, theta, lambda
@@ -198,9 +198,9 @@ TEST(GcpGlobalBA, ShiftedGcpPullsTheBlockLikeARigidBody) {
   ASSERT_EQ(in.gcps.size(), 6u);
 
   // Without GCPs the gauge holds a pose of the perturbed start: not the GCP frame.
-  const GlobalBAResult free = PointlessGlobalBA(s.initial, s.th.triplets, s.th.hessians.hessians, options);
+  const GlobalBAResult free = PointlessGlobalBA(s.initial, MotionsOfTriplets(s.th.triplets), s.th.hessians.hessians, options);
   // With the true GCPs: the GCP frame, no alignment.
-  const GlobalBAResult a = PointlessGlobalBA(s.initial, s.th.triplets, s.th.hessians.hessians, options, nullptr, &in);
+  const GlobalBAResult a = PointlessGlobalBA(s.initial, MotionsOfTriplets(s.th.triplets), s.th.hessians.hessians, options, nullptr, &in);
   EXPECT_TRUE(a.summary.gcp_gauge);
   EXPECT_GE(a.summary.num_gcp_residuals, 6);
   const CentreErrors e_free = RawCentreErrors(free.poses, s.gt_gcp, s.extent);
@@ -222,7 +222,7 @@ TEST(GcpGlobalBA, ShiftedGcpPullsTheBlockLikeARigidBody) {
   const Eigen::Vector3d d = 0.05 * s.extent * Eigen::Vector3d(0.6, -0.8, 0.0);
   shifted.gcps[0].X += d;
   const GlobalBAResult b =
-      PointlessGlobalBA(s.initial, s.th.triplets, s.th.hessians.hessians, options, nullptr, &shifted);
+      PointlessGlobalBA(s.initial, MotionsOfTriplets(s.th.triplets), s.th.hessians.hessians, options, nullptr, &shifted);
   std::vector<Eigen::Vector3d> placed, target;
   for (const GcpConstraint& g : shifted.gcps) {
     placed.push_back(*TriangulateGcp(g, a.poses, in.options));

@@ -176,7 +176,9 @@ inline TripletsWithHessians BuildTripletsWithHessians(const Reconstruction& rec,
   triplet_ba.max_iterations = 20;
   const LocalHessianResult refined = ComputeLocalHessians(rec, out.triplets, triplet_ba);
   for (size_t i = 0; i < out.triplets.size(); ++i)
-    if (refined.hessians[i].status == LocalHessianStatus::kOk) out.triplets[i].local_poses = refined.hessians[i].local_poses;
+    if (refined.hessians[i].status == LocalHessianStatus::kOk)
+      std::copy(refined.hessians[i].local_poses.begin(), refined.hessians[i].local_poses.end(),
+                out.triplets[i].local_poses.begin());
   out.hessians = ComputeLocalHessians(rec, out.triplets, options);
   return out;
 }

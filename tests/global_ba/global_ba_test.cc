@@ -6,7 +6,7 @@
 
 #include <cstdio>
 
-#include "modules/global_ba/triplet_similarity.h"
+#include "modules/global_ba/motion_similarity.h"
 #include "pgba/util/error.h"
 #include "pgba/util/timer.h"
 #include "tests/global_ba/global_ba_fixture.h"
@@ -47,12 +47,12 @@ TEST(GlobalBA, PointlessMatchesPointBasedAndBeatsAveraging) {
   // Pointless BA with a convergence curve through the iteration callback.
   std::vector<double> curve;
   int calls = 0;
-  const GlobalBAResult pl = PointlessGlobalBA(s.initial, s.th.triplets, s.th.hessians.hessians, GlobalBAOptions(),
+  const GlobalBAResult pl = PointlessGlobalBA(s.initial, MotionsOfTriplets(s.th.triplets), s.th.hessians.hessians, GlobalBAOptions(),
                                               [&](const GlobalBAIteration& it) {
                                                 EXPECT_EQ(it.iteration, calls++);
                                                 curve.push_back(SigmaPx(s.rec, *it.poses));
                                               });
-  const GlobalBAResult av = AveragingGlobalBA(s.initial, s.th.triplets, s.th.hessians.hessians, GlobalBAOptions());
+  const GlobalBAResult av = AveragingGlobalBA(s.initial, MotionsOfTriplets(s.th.triplets), s.th.hessians.hessians, GlobalBAOptions());
   int pb_iterations = 0;
   Timer pb_timer;
   const std::map<uint32_t, Pose> pb = PointBasedBA(s.rec, s.initial, &pb_iterations);
@@ -101,8 +101,8 @@ TEST(GlobalBA, GaugeChoicesAgree) {
   a.gauge = GaugeFixing::kFixPoseAndScale;
   GlobalBAOptions b = a;
   b.gauge = GaugeFixing::kFixSimilarity;
-  const GlobalBAResult ra = PointlessGlobalBA(s.initial, s.th.triplets, s.th.hessians.hessians, a);
-  const GlobalBAResult rb = PointlessGlobalBA(s.initial, s.th.triplets, s.th.hessians.hessians, b);
+  const GlobalBAResult ra = PointlessGlobalBA(s.initial, MotionsOfTriplets(s.th.triplets), s.th.hessians.hessians, a);
+  const GlobalBAResult rb = PointlessGlobalBA(s.initial, MotionsOfTriplets(s.th.triplets), s.th.hessians.hessians, b);
   // The kFixPoseAndScale gauge keeps the reference pose where it started.
   const PoseErrors ea = GroundTruthErrors(ra.poses, s.gt);
   const PoseErrors eb = GroundTruthErrors(rb.poses, s.gt);
@@ -118,7 +118,7 @@ TEST(GlobalBA, GaugeChoicesAgree) {
 // down-weighted by the IRLS and barely move the result.
 TEST(GlobalBA, RobustToCorruptedTriplets) {
   Scenario s = MakeScenario(24, 3000, 4, 51);
-  const GlobalBAResult clean = PointlessGlobalBA(s.initial, s.th.triplets, s.th.hessians.hessians, GlobalBAOptions());
+  const GlobalBAResult clean = PointlessGlobalBA(s.initial, MotionsOfTriplets(s.th.triplets), s.th.hessians.hessians, GlobalBAOptions());
   std::vector<LocalHessian> corrupted = s.th.hessians.hessians;
   std::mt19937_64 rng(5);
   std::vector<int> bad;
@@ -127,7 +127,7 @@ TEST(GlobalBA, RobustToCorruptedTriplets) {
     p = Pose::FromRC(p.R() * RandomRotationOfAngle(rng, 3.0 * M_PI / 180.0), p.C());
     bad.push_back(static_cast<int>(i));
   }
-  const GlobalBAResult r = PointlessGlobalBA(s.initial, s.th.triplets, corrupted, GlobalBAOptions());
+  const GlobalBAResult r = PointlessGlobalBA(s.initial, MotionsOfTriplets(s.th.triplets), corrupted, GlobalBAOptions());
   const double sigma_clean = SigmaPx(s.rec, clean.poses);
   const double sigma = SigmaPx(s.rec, r.poses);
   std::printf("%zu corrupted triplets: sigma %.4f vs clean %.4f, %d down-weighted\n", bad.size(), sigma, sigma_clean,
@@ -145,7 +145,7 @@ TEST(GlobalBA, ExcludesUnusableTripletsAndImagesAndRejectsMismatches) {
   hessians[3].status = LocalHessianStatus::kIllConditioned;
   std::map<uint32_t, Pose> initial = s.initial;
   initial[1000] = Pose();
-  const GlobalBAResult r = PointlessGlobalBA(initial, triplets, hessians, GlobalBAOptions());
+  const GlobalBAResult r = PointlessGlobalBA(initial, MotionsOfTriplets(triplets), hessians, GlobalBAOptions());
   EXPECT_EQ(r.summary.num_triplets_excluded, 1);
   EXPECT_EQ(r.summary.excluded_images, std::vector<uint32_t>{1000});
   EXPECT_EQ(r.poses.count(1000), 0u);
@@ -155,14 +155,14 @@ TEST(GlobalBA, ExcludesUnusableTripletsAndImagesAndRejectsMismatches) {
   // A hessian that belongs to another triplet list.
   std::vector<LocalHessian> wrong = s.th.hessians.hessians;
   std::swap(wrong[0].image_ids[0], wrong[0].image_ids[1]);
-  EXPECT_THROW(PointlessGlobalBA(s.initial, triplets, wrong, GlobalBAOptions()), InputError);
+  EXPECT_THROW(PointlessGlobalBA(s.initial, MotionsOfTriplets(triplets), wrong, GlobalBAOptions()), InputError);
   // NaN in an initial pose.
   std::map<uint32_t, Pose> nan_poses = s.initial;
   nan_poses[1] = Pose::FromRC(Eigen::Matrix3d::Identity(), Eigen::Vector3d(NAN, 0, 0));
-  EXPECT_THROW(PointlessGlobalBA(nan_poses, triplets, hessians, GlobalBAOptions()), InputError);
+  EXPECT_THROW(PointlessGlobalBA(nan_poses, MotionsOfTriplets(triplets), hessians, GlobalBAOptions()), InputError);
   // Nothing usable.
   for (LocalHessian& h : hessians) h.status = LocalHessianStatus::kTooFewPoints;
-  EXPECT_THROW(PointlessGlobalBA(s.initial, triplets, hessians, GlobalBAOptions()), InputError);
+  EXPECT_THROW(PointlessGlobalBA(s.initial, MotionsOfTriplets(triplets), hessians, GlobalBAOptions()), InputError);
 }
 
 // Two groups of triplets sharing a single image are not rigidly connected: only the larger
@@ -179,7 +179,7 @@ TEST(GlobalBA, KeepsLargestRigidComponent) {
   const LocalHessianResult lh = ComputeLocalHessians(rec, triplets, LocalHessianOptions());
   ASSERT_EQ(lh.num_ok(), static_cast<int>(triplets.size()));
   const std::map<uint32_t, Pose> gt = PosesOf(rec);
-  const GlobalBAResult r = PointlessGlobalBA(gt, triplets, lh.hessians, GlobalBAOptions());
+  const GlobalBAResult r = PointlessGlobalBA(gt, MotionsOfTriplets(triplets), lh.hessians, GlobalBAOptions());
   EXPECT_EQ(r.poses.size(), 12u);
   EXPECT_EQ(r.summary.num_triplets_excluded, 3);
   EXPECT_EQ(r.summary.excluded_images.size(), 24u - 12u);
@@ -191,9 +191,9 @@ TEST(GlobalBA, SimilarityInitialisationRecoversTheTruth) {
   const Reconstruction rec = MakeRingScene(o);
   std::mt19937_64 rng(17);
   const Triplet t = MakeTriplet(rec, {2, 3, 5}, rng);
-  std::array<Pose, 3> global;
+  std::vector<Pose> global(3);
   for (int k = 0; k < 3; ++k) global[k] = rec.images.at(t.image_ids[k]).pose;
-  const Sim3 est = InitializeSimilarity(global, t.local_poses, Sim3()).ToSim3();
+  const Sim3 est = InitializeSimilarity(global, LocalMotion(t).local_poses, Sim3()).ToSim3();
   EXPECT_NEAR(est.s, t.global_to_local.s, 1e-12 * t.global_to_local.s);
   EXPECT_LT(RotationAngle(est.R, t.global_to_local.R), 1e-12);
   EXPECT_LT((est.t - t.global_to_local.t).norm(), 1e-10);
@@ -216,7 +216,7 @@ TEST(GlobalBA, OrbitSizeProblemIsFast) {
   Timer t_lh;
   const LocalHessianResult lh = ComputeLocalHessians(rec, triplets, LocalHessianOptions());
   const double lh_seconds = t_lh.Seconds();
-  const GlobalBAResult r = PointlessGlobalBA(initial, triplets, lh.hessians, GlobalBAOptions());
+  const GlobalBAResult r = PointlessGlobalBA(initial, MotionsOfTriplets(triplets), lh.hessians, GlobalBAOptions());
   const double per_iteration = r.summary.seconds / std::max(1, r.summary.iterations);
   std::printf("orbit 70 images, %zu triplets: local hessians %.3f s; global BA %.3f s, %d iterations, %.4f s/it\n",
               triplets.size(), lh_seconds, r.summary.seconds, r.summary.iterations, per_iteration);

@@ -50,7 +50,7 @@ std::string ReadAll(const fs::path& p) {
 
 std::string ErrorOf(const fs::path& p, const Fixture& f, const std::vector<Triplet>& triplets) {
   try {
-    ReadLocalHessians(p, f.rec, triplets);
+    ReadLocalHessians(p, f.rec, MotionsOfTriplets(triplets));
   } catch (const InputError& e) {
     return e.what();
   }
@@ -62,7 +62,7 @@ TEST(LocalHessianIo, RoundTripKeepsHessiansAndRebuildsTheDecomposition) {
   ASSERT_GE(f.result.num_ok(), 4);
   const fs::path p = fs::temp_directory_path() / "pgba_lh_roundtrip.json";
   WriteLocalHessians(p, f.rec, f.result);
-  const LocalHessianResult back = ReadLocalHessians(p, f.rec, f.triplets);
+  const LocalHessianResult back = ReadLocalHessians(p, f.rec, MotionsOfTriplets(f.triplets));
   ASSERT_EQ(back.hessians.size(), f.result.hessians.size());
   EXPECT_EQ(back.status_counts, f.result.status_counts);
   for (size_t i = 0; i < back.hessians.size(); ++i) {
@@ -121,11 +121,11 @@ TEST(LocalHessianIo, NewtonStepIsOptionalOnReading) {
   f.result.hessians[0].newton_step.setConstant(1e-6);
   const fs::path p = fs::temp_directory_path() / "pgba_lh_newton.json";
   WriteLocalHessians(p, f.rec, f.result);
-  EXPECT_EQ(ReadLocalHessians(p, f.rec, f.triplets).hessians[0].newton_step, f.result.hessians[0].newton_step);
+  EXPECT_EQ(ReadLocalHessians(p, f.rec, MotionsOfTriplets(f.triplets)).hessians[0].newton_step, f.result.hessians[0].newton_step);
   nlohmann::json j = nlohmann::json::parse(ReadAll(p));
   for (nlohmann::json& e : j["hessians"]) e.erase("newton_step");
   std::ofstream(p) << j.dump();
-  const LocalHessianResult old = ReadLocalHessians(p, f.rec, f.triplets);
+  const LocalHessianResult old = ReadLocalHessians(p, f.rec, MotionsOfTriplets(f.triplets));
   EXPECT_EQ(old.num_ok(), f.result.num_ok());
   EXPECT_TRUE(old.hessians[0].newton_step.isZero(0.0));
   j["hessians"][0]["newton_step"] = {1.0, 2.0};

@@ -23,8 +23,8 @@ using testing::RingSceneOptions;
 
 // The local BA cost 1/2 sum w rho(|r|^2) at fixed poses, points re-optimised to convergence
 // (the point-based cost as a function of the cameras alone).
-double CostWithPointsOptimised(const LocalBundleProblem& p, const std::array<Pose, 3>& poses) {
-  std::array<PoseBlock, 3> blocks;
+double CostWithPointsOptimised(const LocalBundleProblem& p, const std::vector<Pose>& poses) {
+  std::vector<PoseBlock> blocks(3);
   std::vector<Eigen::Vector3d> points = p.points;
   ceres::Problem::Options po;
   ceres::Problem problem(po);
@@ -88,7 +88,7 @@ TEST(LocalHessian, EqualsInverseOfCameraBlockOfDenseCovariance) {
   // Dense reference.
   ceres::Problem problem;
   std::vector<double*> blocks;
-  std::array<PoseBlock, 3> poses = p.poses;
+  std::vector<PoseBlock> poses = p.poses;
   std::vector<Eigen::Vector3d> points = p.points;
   for (auto& b : poses) blocks.push_back(b.x.data());
   for (auto& X : points) blocks.push_back(X.data());
@@ -120,8 +120,8 @@ TEST(LocalHessian, EqualsInverseOfCameraBlockOfDenseCovariance) {
   EXPECT_LT(diff, 1e-6) << "points " << p.points.size();
   // The camera covariance itself, compared where it is well determined (not in the
   // prior-held gauge directions): the eigenvectors of h with large eigenvalues.
-  Matrix18d V;
-  Vector18d D;
+  Eigen::MatrixXd V;
+  Eigen::VectorXd D;
   DecomposeReducedMatrix(h, &V, &D);
   for (int j = 7; j < 18; ++j) {
     const Vector18d v = V.row(j).transpose();
@@ -150,7 +150,7 @@ TEST(LocalHessian, PredictsPointBasedCostAlongEigenvectors) {
   EXPECT_LT(lh.rms_px, 1e-6);
   EXPECT_GT(lh.num_points, 50);
   // The same observations and points, for the re-optimisation.
-  Triplet t0 = t;
+  LocalMotion t0 = t;
   t0.local_poses = lh.local_poses;
   LocalBundleProblem p;
   ASSERT_EQ(BuildLocalBundleProblem(rec, t0, opt, &p), LocalHessianStatus::kOk);
@@ -160,7 +160,7 @@ TEST(LocalHessian, PredictsPointBasedCostAlongEigenvectors) {
   const double lambda_max = lh.D(17) * lh.D(17);
   const double target = 1e-4;  // cost increase aimed at (weighted px^2)
   auto move = [&](const Vector18d& v, double eps) {
-    std::array<Pose, 3> moved;
+    std::vector<Pose> moved(3);
     for (int k = 0; k < 3; ++k) {
       const Pose& x0 = lh.local_poses[k];
       moved[k] = Pose::FromRC(x0.R() * ExpSO3(eps * v.segment<3>(6 * k + 3)), x0.C() + eps * v.segment<3>(6 * k));
@@ -180,7 +180,7 @@ TEST(LocalHessian, PredictsPointBasedCostAlongEigenvectors) {
   EXPECT_GE(informative, 11);
   // Along the similarity generators the point-based cost does not rise at all (gauge); h
   // without its prior predicts exactly that.
-  std::array<PoseBlock, 3> x0;
+  std::vector<PoseBlock> x0(3);
   for (int k = 0; k < 3; ++k) x0[k] = PoseBlock::FromPose(lh.local_poses[k]);
   const Eigen::Matrix<double, 18, 7> G = SimilarityGenerators(x0, 1.0);
   for (int i = 0; i < 7; ++i) {
@@ -199,12 +199,12 @@ TEST(LocalHessian, DecompositionAndPriorAreConsistent) {
   const Triplet t = MakeTriplet(rec, {7, 8, 9}, rng);
   const LocalHessian lh = ComputeLocalHessian(rec, t, 4, LocalHessianOptions());
   ASSERT_EQ(lh.status, LocalHessianStatus::kOk);
-  EXPECT_EQ(lh.triplet_index, 4);
+  EXPECT_EQ(lh.motion_index, 4);
   EXPECT_LT(RelativeDifference(lh.V.transpose() * lh.D.cwiseAbs2().asDiagonal() * lh.V, lh.h, lh.depth_scale), 1e-12);
   EXPECT_LT((lh.V * lh.V.transpose() - Matrix18d::Identity()).norm(), 1e-12);
   // The similarity generators span the null space of h without the prior (the gauge), and
   // the default prior lives on them only: it leaves the informative directions untouched.
-  std::array<PoseBlock, 3> x0;
+  std::vector<PoseBlock> x0(3);
   for (int k = 0; k < 3; ++k) x0[k] = PoseBlock::FromPose(lh.local_poses[k]);
   const Eigen::Matrix<double, 18, 7> G = SimilarityGenerators(x0, 1.0);
   const Matrix18d h0 = lh.h - lh.prior;
@@ -318,7 +318,7 @@ TEST(LocalHessian, ParallelResultIsDeterministic) {
   EXPECT_EQ(par.num_ok(), static_cast<int>(triplets.size()));
   for (size_t i = 0; i < triplets.size(); ++i) {
     EXPECT_EQ(par.hessians[i].h, seq.hessians[i].h);
-    EXPECT_EQ(par.hessians[i].triplet_index, static_cast<int>(i));
+    EXPECT_EQ(par.hessians[i].motion_index, static_cast<int>(i));
   }
 }
 
@@ -353,14 +353,14 @@ TEST(LocalHessian, NewtonStepPointsToTheTripletOptimum) {
   at_point.max_iterations = 0;
   const LocalHessian lin = ComputeLocalHessian(rec, moved, 0, at_point);
   ASSERT_EQ(lin.status, LocalHessianStatus::kOk);
-  std::array<Pose, 3> stepped;
+  std::vector<Pose> stepped(3);
   for (int k = 0; k < 3; ++k) {
     const Pose& y = lin.local_poses[k];
     stepped[k] = Pose::FromRC(y.R() * ExpSO3(lin.newton_step.segment<3>(6 * k + 3)),
                               y.C() + lin.newton_step.segment<3>(6 * k));
   }
   // Excess of the point-based cost (points re-optimised) over the optimum's.
-  Triplet t0 = t;
+  LocalMotion t0 = t;
   t0.local_poses = opt.local_poses;
   LocalBundleProblem p;
   ASSERT_EQ(BuildLocalBundleProblem(rec, t0, converge, &p), LocalHessianStatus::kOk);
@@ -383,7 +383,7 @@ TEST(LocalHessian, SharedObservationWeightingCountsTheTripletsOfEachObservation)
   const Reconstruction rec = MakeRingScene(so);
   std::mt19937_64 rng(24);
   const std::vector<Triplet> triplets = testing::MakeRingTriplets(rec, 4, false, rng);
-  const ObservationShares shares = CountObservationShares(rec, triplets);
+  const ObservationShares shares = CountObservationShares(rec, MotionsOfTriplets(triplets));
   // Brute force for every (image, track) of the triplets.
   for (const auto& [key, count] : shares) {
     int expected = 0;
@@ -398,7 +398,7 @@ TEST(LocalHessian, SharedObservationWeightingCountsTheTripletsOfEachObservation)
   shared.shared_observation_weighting = true;
   const LocalHessianResult plain = ComputeLocalHessians(rec, triplets, LocalHessianOptions());
   const LocalHessianResult weighted = ComputeLocalHessians(rec, triplets, shared);
-  const LocalHessianResult given = ComputeLocalHessians(rec, triplets, shared, &shares);
+  const LocalHessianResult given = ComputeLocalHessians(rec, MotionsOfTriplets(triplets), shared, &shares);
   EXPECT_GE(weighted.num_ok(), static_cast<int>(triplets.size()) / 2);
   for (size_t i = 0; i < triplets.size(); ++i) {
     ASSERT_EQ(weighted.hessians[i].status, plain.hessians[i].status);

@@ -23,10 +23,14 @@ class JsonFileReader {
   int64_t Integer(const nlohmann::json& j, const std::string& where) const;
   template <int N>
   Eigen::Matrix<double, N, 1> Numbers(const nlohmann::json& j, const std::string& where) const {
-    if (!j.is_array() || static_cast<int>(j.size()) != N)
-      Fail(where, "expected an array of " + std::to_string(N) + " numbers");
-    Eigen::Matrix<double, N, 1> v;
-    for (int k = 0; k < N; ++k) v(k) = Number(j[k], where);
+    return Numbers(j, N, where);
+  }
+  // An array of exactly n finite numbers.
+  Eigen::VectorXd Numbers(const nlohmann::json& j, int n, const std::string& where) const {
+    if (!j.is_array() || static_cast<int>(j.size()) != n)
+      Fail(where, "expected an array of " + std::to_string(n) + " numbers");
+    Eigen::VectorXd v(n);
+    for (int k = 0; k < n; ++k) v(k) = Number(j[k], where);
     return v;
   }
 

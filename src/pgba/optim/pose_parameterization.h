@@ -41,6 +41,16 @@ struct PoseBlock {
   }
 };
 
+// Fixes the 7-dof similarity gauge of an adjustment through two of its poses: `a` held
+// constant, and the centre coordinate of `b` along their largest baseline component (the
+// scale). The problem must own its manifolds (the default).
+inline void HoldPoseAndScale(PoseBlock* a, PoseBlock* b, ceres::Problem* problem) {
+  problem->SetParameterBlockConstant(a->x.data());
+  int coord = 0;
+  (b->x.head<3>() - a->x.head<3>()).cwiseAbs().maxCoeff(&coord);
+  problem->SetManifold(b->x.data(), new ceres::SubsetManifold(6, {coord}));
+}
+
 // x_cam = R0 * Exp(omega) * (X - C) for any scalar type (Ceres Jets included).
 template <typename T>
 void WorldToCamera(const Eigen::Matrix3d& R0, const T* pose, const T* X, T* x_cam) {

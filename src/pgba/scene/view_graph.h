@@ -38,4 +38,30 @@ struct Triplet {
   Sim3 global_to_local;
 };
 
+// A relative motion of N >= 3 views (paper section 3): their poses in a local frame of their
+// own, the tracks their local BA uses, and the frame's global->local similarity. The
+// triplets are the paper's case N = 3; eqs. 1-5 hold for any N (the local Hessian is then
+// 6N x 6N), and longer motions carry the information that triplets chained along a
+// sequence lose (local_motions.h).
+struct LocalMotion {
+  std::vector<uint32_t> image_ids;
+  std::vector<Pose> local_poses;  // world(local)->camera, same order as image_ids
+  std::vector<uint64_t> track_ids;
+  Sim3 global_to_local;
+
+  LocalMotion() = default;
+  // A triplet is the motion of its three views (implicit: wherever a motion is expected).
+  LocalMotion(const Triplet& t)  // NOLINT(google-explicit-constructor)
+      : image_ids(t.image_ids.begin(), t.image_ids.end()),
+        local_poses(t.local_poses.begin(), t.local_poses.end()),
+        track_ids(t.track_ids),
+        global_to_local(t.global_to_local) {}
+
+  int num_views() const { return static_cast<int>(image_ids.size()); }
+};
+
+inline std::vector<LocalMotion> MotionsOfTriplets(const std::vector<Triplet>& triplets) {
+  return {triplets.begin(), triplets.end()};
+}
+
 }  // namespace pgba

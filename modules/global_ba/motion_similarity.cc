@@ -1,4 +1,4 @@
-#include "modules/global_ba/triplet_similarity.h"
+#include "modules/global_ba/motion_similarity.h"
 
 #include <cmath>
 
@@ -7,14 +7,16 @@
 namespace pgba {
 
 namespace {
-Eigen::Vector3d Centroid(const std::array<Pose, 3>& poses) {
-  return (poses[0].C() + poses[1].C() + poses[2].C()) / 3.0;
+Eigen::Vector3d Centroid(const std::vector<Pose>& poses) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (const Pose& p : poses) sum += p.C();
+  return poses.empty() ? sum : Eigen::Vector3d(sum / static_cast<double>(poses.size()));
 }
 }  // namespace
 
-Eigen::Matrix3d TripletSimilarity::alpha() const { return alpha0 * ExpSO3(x.segment<3>(3)); }
+Eigen::Matrix3d MotionSimilarity::alpha() const { return alpha0 * ExpSO3(x.segment<3>(3)); }
 
-Sim3 TripletSimilarity::ToSim3() const {
+Sim3 MotionSimilarity::ToSim3() const {
   Sim3 s;
   s.s = lambda();
   s.R = alpha();
@@ -22,21 +24,21 @@ Sim3 TripletSimilarity::ToSim3() const {
   return s;
 }
 
-void TripletSimilarity::Relinearize() {
+void MotionSimilarity::Relinearize() {
   alpha0 = ClosestRotation(alpha());
   x.segment<3>(3).setZero();
 }
 
-TripletSimilarity InitializeSimilarity(const std::array<Pose, 3>& global_poses, const std::array<Pose, 3>& local_poses,
+MotionSimilarity InitializeSimilarity(const std::vector<Pose>& global_poses, const std::vector<Pose>& local_poses,
                                        const Sim3& fallback) {
-  TripletSimilarity sim;
+  MotionSimilarity sim;
   sim.G = Centroid(global_poses);
   Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
-  for (int k = 0; k < 3; ++k) sum += local_poses[k].R().transpose() * global_poses[k].R();
+  for (size_t k = 0; k < global_poses.size(); ++k) sum += local_poses[k].R().transpose() * global_poses[k].R();
   sim.alpha0 = ClosestRotation(sum);
   const Eigen::Vector3d g = Centroid(local_poses);
   double num = 0.0, den = 0.0;
-  for (int k = 0; k < 3; ++k) {
+  for (size_t k = 0; k < global_poses.size(); ++k) {
     const Eigen::Vector3d d = sim.alpha0 * (global_poses[k].C() - sim.G);
     num += (local_poses[k].C() - g).dot(d);
     den += d.squaredNorm();
@@ -47,8 +49,8 @@ TripletSimilarity InitializeSimilarity(const std::array<Pose, 3>& global_poses, 
   return sim;
 }
 
-TripletSimilarity SimilarityFromSim3(const std::array<Pose, 3>& global_poses, const Sim3& global_to_local) {
-  TripletSimilarity sim;
+MotionSimilarity SimilarityFromSim3(const std::vector<Pose>& global_poses, const Sim3& global_to_local) {
+  MotionSimilarity sim;
   sim.G = Centroid(global_poses);
   sim.alpha0 = global_to_local.R;
   sim.x.head<3>() = global_to_local.Apply(sim.G);

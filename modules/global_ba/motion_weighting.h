@@ -1,4 +1,4 @@
-// Weights of the global BA's triplet residuals: the square-root information W_s (the
+// Weights of the global BA's motion residuals: the square-root information W_s (the
 // pointless BA's D_s V_s or Aver_BA's scalars) and the IRLS weight from the fitting error.
 #pragma once
 
@@ -9,7 +9,7 @@ namespace pgba {
 // W_s with W_s (x_s - x0_s) the triplet's residual. kHessian: D_s V_s (paper eq. 5);
 // kScalar: diagonal 1 / (scalar_position_sigma L_s) on positions, 1 / scalar_rotation_sigma
 // on rotations (L_s the median point depth of the triplet, LocalHessian::depth_scale).
-Matrix18d TripletWeightMatrix(const LocalHessian& hessian, const GlobalBAOptions& options);
+Eigen::MatrixXd MotionWeightMatrix(const LocalHessian& hessian, const GlobalBAOptions& options);
 
 // |W_s dx| that a 1 px error of every observation would leave: sqrt(gamma/M) for kHessian
 // (h carries the attenuation), 1 for kScalar. Fitting errors divided by it are comparable

@@ -1,20 +1,20 @@
-// The global->local similarity of a triplet as an unknown of the global BA (paper eq. 4),
+// The global->local similarity of a relative motion (a triplet: N = 3) as an unknown of the global BA (paper eq. 4),
 // written about the triplet's centroid (ARCHITECTURE.md lesson):
 //     c_k = lambda * alpha * (C_k - G) + beta,   r_k = R_k * alpha^T,
-// G the centroid of the triplet's initial global centres (a constant), alpha = alpha0 *
+// G the centroid of the motion's initial global centres (a constant), alpha = alpha0 *
 // Exp(theta). About the centroid, beta is nearly decoupled from lambda and alpha, which keeps
 // the 7x7 blocks that SPARSE_SCHUR eliminates well conditioned.
 #pragma once
 
 #include <Eigen/Core>
-#include <array>
+#include <vector>
 
 #include "pgba/geometry/pose.h"
 #include "pgba/geometry/sim3.h"
 
 namespace pgba {
 
-struct TripletSimilarity {
+struct MotionSimilarity {
   Eigen::Matrix3d alpha0 = Eigen::Matrix3d::Identity();
   Eigen::Vector3d G = Eigen::Vector3d::Zero();
   // Parameter block: beta(3), theta(3), lambda(1).
@@ -29,14 +29,14 @@ struct TripletSimilarity {
   void Relinearize();
 };
 
-// Initial similarity from the triplet's initial global poses and its local poses x0:
-// alpha = closest rotation to sum_k r_k^T R_k (from the camera rotations, not from three
-// nearly collinear centres), lambda by least squares on the centred centres, beta the local
+// Initial similarity from the motion's initial global poses and its local poses x0:
+// alpha = closest rotation to sum_k r_k^T R_k (from the camera rotations, not from nearly
+// collinear centres), lambda by least squares on the centred centres, beta the local
 // centroid. Falls back to `fallback`'s scale when the global centres coincide.
-TripletSimilarity InitializeSimilarity(const std::array<Pose, 3>& global_poses, const std::array<Pose, 3>& local_poses,
+MotionSimilarity InitializeSimilarity(const std::vector<Pose>& global_poses, const std::vector<Pose>& local_poses,
                                        const Sim3& fallback);
 
 // The given global->local similarity rewritten about the centroid G of the global centres.
-TripletSimilarity SimilarityFromSim3(const std::array<Pose, 3>& global_poses, const Sim3& global_to_local);
+MotionSimilarity SimilarityFromSim3(const std::vector<Pose>& global_poses, const Sim3& global_to_local);
 
 }  // namespace pgba

@@ -1,15 +1,15 @@
-#include "modules/global_ba/triplet_weighting.h"
+#include "modules/global_ba/motion_weighting.h"
 
 #include <cmath>
 
 namespace pgba {
 
-Matrix18d TripletWeightMatrix(const LocalHessian& hessian, const GlobalBAOptions& options) {
+Eigen::MatrixXd MotionWeightMatrix(const LocalHessian& hessian, const GlobalBAOptions& options) {
   if (options.weighting == TripletWeighting::kHessian) return hessian.D.asDiagonal() * hessian.V;
-  Vector18d w;
+  Eigen::VectorXd w(6 * hessian.num_views());
   const double wp = 1.0 / (options.scalar_position_sigma * hessian.depth_scale);
   const double wr = 1.0 / options.scalar_rotation_sigma;
-  for (int k = 0; k < 3; ++k) w.segment<6>(6 * k) << wp, wp, wp, wr, wr, wr;
+  for (int k = 0; k < hessian.num_views(); ++k) w.segment<6>(6 * k) << wp, wp, wp, wr, wr, wr;
   return w.asDiagonal();
 }
 

@@ -1,4 +1,4 @@
-#include "modules/global_ba/triplet_selection.h"
+#include "modules/global_ba/motion_selection.h"
 
 #include <algorithm>
 #include <numeric>
@@ -17,27 +17,28 @@ int Find(std::vector<int>& parent, int i) {
 }
 
 bool Usable(const LocalHessian& h) {
-  return h.status == LocalHessianStatus::kOk && h.V.allFinite() && h.D.allFinite() && h.D.maxCoeff() > 0;
+  return h.status == LocalHessianStatus::kOk && h.D.size() == 6 * h.num_views() && h.V.rows() == h.D.size() &&
+         h.V.allFinite() && h.D.allFinite() && h.D.maxCoeff() > 0;
 }
 
 }  // namespace
 
-TripletSelection SelectTriplets(const std::map<uint32_t, Pose>& initial_poses, const std::vector<Triplet>& triplets,
-                                const std::vector<LocalHessian>& hessians) {
+MotionSelection SelectMotions(const std::map<uint32_t, Pose>& initial_poses, const std::vector<LocalMotion>& motions,
+                              const std::vector<LocalHessian>& hessians) {
   for (const auto& [id, pose] : initial_poses)
     if (!pose.q().coeffs().allFinite() || !pose.t().allFinite())
       throw InputError("global BA: initial pose of image " + std::to_string(id) + " is not finite");
-  std::vector<bool> seen(triplets.size(), false);
+  std::vector<bool> seen(motions.size(), false);
   for (size_t i = 0; i < hessians.size(); ++i) {
     const LocalHessian& h = hessians[i];
-    if (h.triplet_index < 0 || h.triplet_index >= static_cast<int>(triplets.size()) ||
-        h.image_ids != triplets[h.triplet_index].image_ids || seen[h.triplet_index])
-      throw InputError("global BA: local hessian " + std::to_string(i) + " does not match the triplet list (triplet " +
-                       std::to_string(h.triplet_index) + ")");
-    seen[h.triplet_index] = true;
+    if (h.motion_index < 0 || h.motion_index >= static_cast<int>(motions.size()) ||
+        h.image_ids != motions[h.motion_index].image_ids || seen[h.motion_index])
+      throw InputError("global BA: local hessian " + std::to_string(i) + " does not match the motion list (motion " +
+                       std::to_string(h.motion_index) + ")");
+    seen[h.motion_index] = true;
   }
 
-  // Candidates, then union-find over triplets sharing an image pair.
+  // Candidates, then union-find over motions sharing an image pair.
   std::vector<int> candidates;
   for (size_t i = 0; i < hessians.size(); ++i) {
     const LocalHessian& h = hessians[i];
@@ -50,8 +51,8 @@ TripletSelection SelectTriplets(const std::map<uint32_t, Pose>& initial_poses, c
   std::map<std::pair<uint32_t, uint32_t>, int> pair_owner;
   for (size_t c = 0; c < candidates.size(); ++c) {
     const auto& ids = hessians[candidates[c]].image_ids;
-    for (int a = 0; a < 3; ++a)
-      for (int b = a + 1; b < 3; ++b) {
+    for (size_t a = 0; a < ids.size(); ++a)
+      for (size_t b = a + 1; b < ids.size(); ++b) {
         const auto key = std::minmax(ids[a], ids[b]);
         const auto [it, inserted] = pair_owner.emplace(key, static_cast<int>(c));
         if (!inserted) parent[Find(parent, static_cast<int>(c))] = Find(parent, it->second);
@@ -69,7 +70,7 @@ TripletSelection SelectTriplets(const std::map<uint32_t, Pose>& initial_poses, c
       best_size = images.size();
     }
 
-  TripletSelection sel;
+  MotionSelection sel;
   for (size_t c = 0; c < candidates.size(); ++c)
     if (Find(parent, static_cast<int>(c)) == best) sel.hessian_indices.push_back(candidates[c]);
   sel.num_excluded = static_cast<int>(hessians.size() - sel.hessian_indices.size());

@@ -1,0 +1,80 @@
+// The residual of one relative motion of N views in the global BA (paper eq. 5, with the
+// gradient term of eq. 3):
+//     r_s = W_s (x_s(X, sim_s) - x0_s - n_s),     W_s^T W_s = h_s  (W_s = D_s V_s),
+// n_s = -h_s^-1 g_s the Newton step of the local quadratic at x0_s (LocalHessian::newton_step;
+// zero for a converged local BA, as eq. 5 assumes),
+// x_s stacking, for the motion's views k = 0..N-1, the local 6-vector predicted from the
+// global pose through the similarity (paper eq. 4, centroid form of motion_similarity.h),
+// in the SAME chart as h_s around the local BA's solution x0 = {r0_k, c0_k}:
+//     [ c_k - c0_k ;  Log(r0_k^T r_k) ],   c_k = lambda alpha (C_k - G) + beta,
+//                                          r_k = R0_k Exp(omega_k) alpha^T.
+// Parameter blocks: the N global poses [C, omega] (pose_parameterization.h) and the
+// similarity [beta, theta, lambda].
+//
+// The Jacobian is composed, not differentiated through W: each view's 6-vector depends only
+// on its own pose and the similarity, so automatic differentiation runs per view over 13
+// variables (ViewDeviation), and W_s multiplies the 6 x 13 blocks in doubles. A triplet then
+// costs 3 small Jet evaluations instead of one 18 x 18 product of 25-wide Jets, and a
+// motion of N views costs O(N^2) multiplications, not O(N^3) Jet operations.
+#pragma once
+
+#include <ceres/ceres.h>
+#include <ceres/rotation.h>
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "modules/global_ba/motion_similarity.h"
+#include "modules/local_hessian/local_hessian.h"
+
+namespace pgba {
+
+// One view's deviation [c_k - c0_k ; Log(r0_k^T r_k)] as a function of its global pose block
+// and the similarity block.
+struct ViewDeviation {
+  Eigen::Matrix3d alpha0;
+  Eigen::Vector3d G;
+  Eigen::Matrix3d r0t_R0;  // r0_k^T R0_k (R0_k: reference rotation of the global pose block)
+  Eigen::Vector3d c0;
+
+  template <typename T>
+  void operator()(const T* pose, const T* sim, T* dx) const {
+    using Mat3 = Eigen::Matrix<T, 3, 3>;
+    Mat3 exp_theta;
+    ceres::AngleAxisToRotationMatrix(sim + 3, exp_theta.data());  // column-major, as Eigen
+    const Mat3 alpha = alpha0.cast<T>() * exp_theta;
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> beta(sim);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> C(pose);
+    Eigen::Map<Eigen::Matrix<T, 3, 1>> dc(dx);
+    dc = sim[6] * (alpha * (C - G.cast<T>())) + beta - c0.cast<T>();
+    Mat3 exp_omega;
+    ceres::AngleAxisToRotationMatrix(pose + 3, exp_omega.data());
+    const Mat3 d = r0t_R0.cast<T>() * exp_omega * alpha.transpose();
+    ceres::RotationMatrixToAngleAxis(d.data(), dx + 3);  // quaternion/atan2 based: exact near 0
+  }
+};
+
+class MotionResidual : public ceres::CostFunction {
+ public:
+  // R0: reference rotations of the N global pose blocks; x0: the motion's local poses.
+  MotionResidual(const std::vector<Eigen::Matrix3d>& R0, const MotionSimilarity& sim, const std::vector<Pose>& x0,
+                 const Eigen::MatrixXd& W, const Eigen::VectorXd& newton_step = Eigen::VectorXd());
+
+  int num_views() const { return static_cast<int>(views_.size()); }
+
+  // r_s at the given blocks (poses[k]: 6 doubles of view k; sim: 7).
+  Eigen::VectorXd Evaluate(const std::vector<const double*>& poses, const double* sim) const;
+
+  // Ceres: blocks poses[0..N-1], sim; residuals 6N.
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
+
+  // x_s - x0_s (before the weight matrix), for tests of the chart.
+  Eigen::VectorXd Deviation(const std::vector<const double*>& poses, const double* sim) const;
+
+ private:
+  std::vector<ViewDeviation> views_;
+  Eigen::MatrixXd W_;
+  Eigen::VectorXd offset_;  // W_s n_s
+};
+
+}  // namespace pgba

@@ -1,0 +1,111 @@
+#include "modules/local_hessian/local_motions.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <set>
+
+#include "modules/local_hessian/local_bundle.h"
+#include "pgba/util/logging.h"
+
+namespace pgba {
+
+namespace {
+
+// Tracks shared by every pair of registered images (each track counted once per pair).
+std::map<uint32_t, std::map<uint32_t, int>> SharedTracks(const Reconstruction& tracks,
+                                                         const std::map<uint32_t, Pose>& poses) {
+  std::map<uint32_t, std::map<uint32_t, int>> shared;
+  for (const auto& [track_id, point] : tracks.points3D) {
+    std::set<uint32_t> images;
+    for (const TrackElement& el : point.track)
+      if (poses.count(el.image_id)) images.insert(el.image_id);
+    for (auto a = images.begin(); a != images.end(); ++a)
+      for (auto b = std::next(a); b != images.end(); ++b) {
+        ++shared[*a][*b];
+        ++shared[*b][*a];
+      }
+  }
+  return shared;
+}
+
+// Tracks of each registered image (each once, ascending).
+std::map<uint32_t, std::vector<uint64_t>> TracksPerImage(const Reconstruction& tracks,
+                                                        const std::map<uint32_t, Pose>& poses) {
+  std::map<uint32_t, std::vector<uint64_t>> out;
+  for (const auto& [track_id, point] : tracks.points3D)
+    for (const TrackElement& el : point.track)
+      if (poses.count(el.image_id)) {
+        std::vector<uint64_t>& v = out[el.image_id];
+        if (v.empty() || v.back() != track_id) v.push_back(track_id);
+      }
+  return out;
+}
+
+// Tracks seen by at least two of `image_ids`, ascending.
+std::vector<uint64_t> TracksOfViews(const std::map<uint32_t, std::vector<uint64_t>>& per_image,
+                                    const std::vector<uint32_t>& image_ids) {
+  std::map<uint64_t, int> views_of_track;
+  for (const uint32_t id : image_ids)
+    if (const auto it = per_image.find(id); it != per_image.end())
+      for (const uint64_t t : it->second) ++views_of_track[t];
+  std::vector<uint64_t> out;
+  for (const auto& [t, n] : views_of_track)
+    if (n >= 2) out.push_back(t);
+  return out;
+}
+
+}  // namespace
+
+std::vector<LocalMotion> SelectLocalMotions(const Reconstruction& tracks, const std::map<uint32_t, Pose>& poses,
+                                            const LocalMotionOptions& options) {
+  std::vector<LocalMotion> motions;
+  if (options.views <= 3) return motions;
+  const auto shared = SharedTracks(tracks, poses);
+  const auto per_image = TracksPerImage(tracks, poses);
+  std::set<std::vector<uint32_t>> seen;  // image sets already modelled
+  for (const auto& [image_id, pose] : poses) {
+    const auto it = shared.find(image_id);
+    if (it == shared.end()) continue;
+    std::vector<std::pair<int, uint32_t>> neighbours;  // (-shared, id): most shared first, ties by id
+    for (const auto& [other, count] : it->second)
+      if (count >= options.min_shared_tracks) neighbours.emplace_back(-count, other);
+    std::sort(neighbours.begin(), neighbours.end());
+    if (neighbours.size() < 2) continue;
+    neighbours.resize(std::min<size_t>(neighbours.size(), options.views - 1));
+    LocalMotion m;
+    m.image_ids.push_back(image_id);
+    for (const auto& [count, other] : neighbours) m.image_ids.push_back(other);
+    std::vector<uint32_t> key = m.image_ids;
+    std::sort(key.begin(), key.end());
+    if (!seen.insert(key).second) continue;
+    for (const uint32_t id : m.image_ids) m.local_poses.push_back(poses.at(id));
+    m.track_ids = TracksOfViews(per_image, m.image_ids);
+    motions.push_back(std::move(m));
+  }
+  return motions;
+}
+
+void ConvergeLocalMotions(const Reconstruction& tracks, const LocalHessianOptions& lh_options,
+                          const LocalMotionOptions& options, std::vector<LocalMotion>* motions) {
+  tbb::parallel_for(size_t(0), motions->size(), [&](size_t i) {
+    LocalMotion& m = (*motions)[i];
+    LocalBundleProblem problem;
+    if (BuildLocalBundleProblem(tracks, m, lh_options, &problem) != LocalHessianStatus::kOk) return;
+    if (!SolveLocalBundle(options.max_iterations, &problem, /*fix_gauge=*/true)) return;
+    for (int k = 0; k < m.num_views(); ++k) m.local_poses[k] = problem.poses[k].ToPose();
+  });
+}
+
+std::vector<LocalMotion> BuildLocalMotions(const Reconstruction& tracks, const std::map<uint32_t, Pose>& poses,
+                                           const std::vector<Triplet>& triplets,
+                                           const LocalHessianOptions& lh_options, const LocalMotionOptions& options) {
+  if (options.views <= 3) return MotionsOfTriplets(triplets);
+  std::vector<LocalMotion> motions = SelectLocalMotions(tracks, poses, options);
+  ConvergeLocalMotions(tracks, lh_options, options, &motions);
+  PGBA_LOG_INFO << "local motions: " << motions.size() << " motions of up to " << options.views << " views over "
+                << poses.size() << " images";
+  return motions;
+}
+
+}  // namespace pgba

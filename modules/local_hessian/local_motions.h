@@ -1,0 +1,65 @@
+// Which relative motions the local Hessian stage models. The paper's are the triplets of the
+// initialisation (N = 3). Its equations 1-5 hold for motions of any N views, and longer motions
+// keep information that triplets lose. Along a sequence, a triplet sees each track in at most
+// three consecutive views. A chain of triplets therefore constrains the slow bending of a
+// narrow-field sequence only through overlaps of two views. A motion of N neighbouring views
+// carries the same track over N views in one local BA. Measured on the longfocal synthetic
+// loop with point-based BAs over windows of N consecutive views: loop closure 0.85 px with
+// triplets, 0.41 px with N = 5, against 0.36 px for the full point-based BA.
+//
+// N > 3 gives one motion per registered image: the image with its N - 1 best-connected
+// neighbours (most shared tracks). The motion starts from given global poses, in their frame.
+// Its own local BA then converges it (ConvergeLocalMotions) before the local Hessian is taken
+// at that solution, as the triplet BA does for the triplets. The start must be locally
+// accurate to a few pixels: the initialisation is not (tens to hundreds of pixels between
+// neighbours of a long-focal sequence), the triplets' pointless BA is (PrepareLocalHessians
+// of pose_refinement.h starts the motions there).
+#pragma once
+
+#include <map>
+#include <nlohmann/json.hpp>
+#include <vector>
+
+#include "modules/local_hessian/local_hessian.h"
+#include "pgba/geometry/pose.h"
+#include "pgba/scene/reconstruction.h"
+#include "pgba/scene/view_graph.h"
+
+namespace pgba {
+
+struct LocalMotionOptions {
+  // Views per motion. 3: the initialisation's triplets (the paper). N > 3: one motion of N
+  // views per image, as above.
+  int views = 3;
+  // A neighbour must share at least this many tracks with the motion's image.
+  int min_shared_tracks = 30;
+  // Levenberg-Marquardt iterations of each pass of the local BA that takes an N-view motion
+  // from the initial poses to its own optimum (stops earlier on Ceres' tolerances).
+  int max_iterations = 30;
+};
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(LocalMotionOptions, views, min_shared_tracks, max_iterations)
+
+// The N-view motions (options.views > 3) over the images of `poses`: image ids (the image
+// first, then its neighbours by decreasing shared tracks, ties by id), local poses = the
+// given poses, global_to_local = identity, and track_ids = the tracks seen by at least two of
+// the views. Motions with the same set of images are kept once; an image with fewer than two
+// qualifying neighbours gets no motion of its own. Deterministic. For views <= 3 the result is
+// empty: the triplets serve (MotionsOfTriplets).
+std::vector<LocalMotion> SelectLocalMotions(const Reconstruction& tracks, const std::map<uint32_t, Pose>& poses,
+                                            const LocalMotionOptions& options);
+
+// Runs each motion's local BA (paper eq. 1; local_bundle.h with `lh_options`' robust loss and
+// gross outlier threshold, gauge held) for up to options.max_iterations and stores the
+// solution in local_poses. The poses must start within the threshold of the truth (a view
+// whose observations are all dropped as outliers stays where it started). A motion whose problem cannot be built or solved keeps its poses (the local
+// Hessian stage then rejects it with its reason). Parallel over motions (TBB).
+void ConvergeLocalMotions(const Reconstruction& tracks, const LocalHessianOptions& lh_options,
+                          const LocalMotionOptions& options, std::vector<LocalMotion>* motions);
+
+// The motions the local Hessian stage models: the triplets as motions (views <= 3), or the
+// N-view motions selected and converged from `poses`.
+std::vector<LocalMotion> BuildLocalMotions(const Reconstruction& tracks, const std::map<uint32_t, Pose>& poses,
+                                           const std::vector<Triplet>& triplets,
+                                           const LocalHessianOptions& lh_options, const LocalMotionOptions& options);
+
+}  // namespace pgba

@@ -1,0 +1,184 @@
+// N-view relative motions (local_motions.h): which views a motion takes, the local BA that
+// converges it, and its 6N x 6N local Hessian.
+#include "modules/local_hessian/local_motions.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+#include <set>
+
+#include "modules/local_hessian/local_bundle.h"
+#include "modules/local_hessian/reduced_camera_matrix.h"
+#include "pgba/geometry/rotation.h"
+#include "tests/global_ba/global_ba_fixture.h"
+#include "tests/local_hessian/ring_scene.h"
+
+namespace pgba {
+namespace {
+
+using testing::MakeRingScene;
+using testing::PosesOf;
+using testing::RingSceneOptions;
+
+Reconstruction Ring(double noise_px, uint64_t seed, int num_points = 2500) {
+  RingSceneOptions o;
+  o.num_images = 20;
+  o.num_points = num_points;
+  o.noise_px = noise_px;
+  o.seed = seed;
+  return MakeRingScene(o);
+}
+
+// Tracks the two images share.
+int Shared(const Reconstruction& rec, uint32_t a, uint32_t b) {
+  int n = 0;
+  for (const auto& [id, pt] : rec.points3D) {
+    bool sa = false, sb = false;
+    for (const TrackElement& el : pt.track) {
+      sa = sa || el.image_id == a;
+      sb = sb || el.image_id == b;
+    }
+    n += sa && sb;
+  }
+  return n;
+}
+
+TEST(LocalMotions, EachImageWithItsBestConnectedNeighbours) {
+  const Reconstruction rec = Ring(0.5, 3);
+  const std::map<uint32_t, Pose> poses = PosesOf(rec);
+  LocalMotionOptions o;
+  o.views = 5;
+  const std::vector<LocalMotion> motions = SelectLocalMotions(rec, poses, o);
+  ASSERT_FALSE(motions.empty());
+  std::set<std::vector<uint32_t>> sets;
+  std::set<uint32_t> covered;
+  for (const LocalMotion& m : motions) {
+    ASSERT_EQ(m.num_views(), 5);
+    ASSERT_EQ(m.local_poses.size(), 5u);
+    std::vector<uint32_t> key = m.image_ids;
+    std::sort(key.begin(), key.end());
+    EXPECT_EQ(std::unique(key.begin(), key.end()), key.end()) << "an image twice";
+    EXPECT_TRUE(sets.insert(key).second) << "the same image set twice";
+    covered.insert(m.image_ids.begin(), m.image_ids.end());
+    // The neighbours are the centre's best connected images, in decreasing order, and no
+    // image outside the motion shares more tracks with the centre than the weakest of them.
+    const uint32_t centre = m.image_ids[0];
+    for (int k = 2; k < m.num_views(); ++k)
+      EXPECT_GE(Shared(rec, centre, m.image_ids[k - 1]), Shared(rec, centre, m.image_ids[k]));
+    const int weakest = Shared(rec, centre, m.image_ids.back());
+    for (const auto& [id, pose] : poses)
+      if (std::find(m.image_ids.begin(), m.image_ids.end(), id) == m.image_ids.end())
+        EXPECT_LE(Shared(rec, centre, id), weakest);
+    // Its tracks: exactly those seen by two of its views or more.
+    std::set<uint64_t> expected;
+    for (const auto& [id, pt] : rec.points3D) {
+      std::set<uint32_t> seen;
+      for (const TrackElement& el : pt.track)
+        if (std::find(m.image_ids.begin(), m.image_ids.end(), el.image_id) != m.image_ids.end())
+          seen.insert(el.image_id);
+      if (seen.size() >= 2) expected.insert(id);
+    }
+    EXPECT_EQ(std::set<uint64_t>(m.track_ids.begin(), m.track_ids.end()), expected);
+  }
+  EXPECT_EQ(covered.size(), poses.size());
+  // Deterministic, and empty for the paper's triplets (views = 3: the triplets serve).
+  const std::vector<LocalMotion> again = SelectLocalMotions(rec, poses, o);
+  ASSERT_EQ(again.size(), motions.size());
+  for (size_t i = 0; i < motions.size(); ++i) EXPECT_EQ(again[i].image_ids, motions[i].image_ids);
+  o.views = 3;
+  EXPECT_TRUE(SelectLocalMotions(rec, poses, o).empty());
+}
+
+// From poses off by 0.05 deg (several pixels), a motion's local BA reaches the truth on a
+// noise-free scene (up to the similarity of its frame), and its local Hessian is 6N x 6N
+// with exactly the 7 similarity directions unseen.
+TEST(LocalMotions, ConvergeToTheTruthAndSeeAllButTheSimilarity) {
+  const Reconstruction rec = Ring(0.0, 5);
+  const std::map<uint32_t, Pose> truth = PosesOf(rec);
+  const std::map<uint32_t, Pose> start = testing::PerturbPoses(truth, 0.05, 1e-3, 9);
+  LocalMotionOptions o;
+  o.views = 6;
+  std::vector<LocalMotion> motions = SelectLocalMotions(rec, start, o);
+  ASSERT_GE(motions.size(), 3u);
+  motions.resize(3);
+  LocalHessianOptions lh;
+  ConvergeLocalMotions(rec, lh, o, &motions);
+  for (const LocalMotion& m : motions) {
+    // Relative rotations and the shape of the centres (scale-free) against the truth.
+    const Pose& a = m.local_poses[0];
+    const Pose& b = m.local_poses[1];
+    const double scale = (b.C() - a.C()).norm() / (truth.at(m.image_ids[1]).C() - truth.at(m.image_ids[0]).C()).norm();
+    for (int k = 1; k < m.num_views(); ++k) {
+      const Pose& tk = truth.at(m.image_ids[k]);
+      const Pose& t0 = truth.at(m.image_ids[0]);
+      EXPECT_LT(RotationAngleDeg(m.local_poses[k].R() * a.R().transpose(), tk.R() * t0.R().transpose()), 1e-6);
+      // Centre of view k in view 0's camera frame, over the scale.
+      const Eigen::Vector3d local = a.R() * (m.local_poses[k].C() - a.C()) / scale;
+      const Eigen::Vector3d expected = t0.R() * (tk.C() - t0.C());
+      EXPECT_LT((local - expected).norm(), 1e-6 * expected.norm()) << "view " << k;
+    }
+    const LocalHessian h = ComputeLocalHessian(rec, m, 0, lh);
+    ASSERT_EQ(h.status, LocalHessianStatus::kOk);
+    ASSERT_EQ(h.h.rows(), 36);
+    EXPECT_EQ(h.newton_step.size(), 36);
+    const Eigen::MatrixXd h_points = h.h - h.prior;
+    const Eigen::VectorXd ev = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(h_points).eigenvalues();
+    // Scale-free test of the rank: 7 null directions, then a clear gap (the rank test of
+    // ComputeGaugePrior sees the same in its scaled chart).
+    EXPECT_LT(std::abs(ev(6)), 1e-9 * ev(35));
+    EXPECT_GT(h.eigenvalue_ratio, 1e-8);
+  }
+}
+
+// (a) of the triplets for a motion of five views: h is the inverse of the camera block of
+// the dense covariance of its own local BA (Ceres' Jacobian, inverted densely).
+TEST(LocalMotions, HessianEqualsInverseOfCameraBlockOfDenseCovariance) {
+  const Reconstruction rec = Ring(0.5, 7, 900);  // a dense inverse of every point: keep it small
+  LocalMotionOptions o;
+  o.views = 5;
+  std::vector<LocalMotion> motions = SelectLocalMotions(rec, PosesOf(rec), o);
+  ASSERT_FALSE(motions.empty());
+  LocalHessianOptions opt;
+  opt.max_iterations = 10;
+  LocalBundleProblem p;
+  ASSERT_EQ(BuildLocalBundleProblem(rec, motions[0], opt, &p), LocalHessianStatus::kOk);
+  ASSERT_TRUE(SolveLocalBundle(opt.max_iterations, &p));
+  const ReducedCameraSystem red = ReducedCameraMatrix(p);
+  const GaugePrior prior = ComputeGaugePrior(red.h, p.poses, MedianDepth(p), opt);
+  const Eigen::MatrixXd h = red.h + prior.P;
+  const int n = 30;
+  ASSERT_EQ(h.rows(), n);
+
+  ceres::Problem problem;
+  std::vector<double*> blocks;
+  std::vector<PoseBlock> poses = p.poses;
+  std::vector<Eigen::Vector3d> points = p.points;
+  for (auto& b : poses) blocks.push_back(b.x.data());
+  for (auto& X : points) blocks.push_back(X.data());
+  for (const LocalObservation& o2 : p.observations)
+    problem.AddResidualBlock(
+        ReprojectionError::Create(p.cameras[o2.view], poses[o2.view].R0, o2.pixel),
+        new ceres::ScaledLoss(new ceres::HuberLoss(p.huber_px), p.observation_weight, ceres::TAKE_OWNERSHIP),
+        poses[o2.view].x.data(), points[o2.point].data());
+  ceres::Problem::EvaluateOptions eo;
+  eo.parameter_blocks = blocks;
+  ceres::CRSMatrix crs;
+  ASSERT_TRUE(problem.Evaluate(eo, nullptr, nullptr, nullptr, &crs));
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
+  for (int r = 0; r < crs.num_rows; ++r)
+    for (int i = crs.rows[r]; i < crs.rows[r + 1]; ++i) J(r, crs.cols[i]) = crs.values[i];
+  Eigen::MatrixXd H = J.transpose() * J;
+  H.topLeftCorner(n, n) += prior.P;
+  const Eigen::MatrixXd cov = H.fullPivLu().inverse();
+  const Eigen::MatrixXd h_ref = cov.topLeftCorner(n, n).fullPivLu().inverse();
+  // Scale-aware relative difference (positions by the depth, as for the triplets).
+  const double L = MedianDepth(p);
+  Eigen::VectorXd s(n);
+  for (int k = 0; k < 5; ++k) s.segment<6>(6 * k) << L, L, L, 1, 1, 1;
+  const Eigen::MatrixXd hs = s.asDiagonal() * h * s.asDiagonal();
+  const Eigen::MatrixXd rs = s.asDiagonal() * h_ref * s.asDiagonal();
+  EXPECT_LT((hs - rs).norm() / rs.norm(), 1e-6);
+}
+
+}  // namespace
+}  // namespace pgba
