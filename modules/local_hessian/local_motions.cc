@@ -64,24 +64,27 @@ std::vector<LocalMotion> SelectLocalMotions(const Reconstruction& tracks, const 
   const auto shared = SharedTracks(tracks, poses);
   const auto per_image = TracksPerImage(tracks, poses);
   std::set<std::vector<uint32_t>> seen;  // image sets already modelled
-  for (const auto& [image_id, pose] : poses) {
-    const auto it = shared.find(image_id);
-    if (it == shared.end()) continue;
-    std::vector<std::pair<int, uint32_t>> neighbours;  // (-shared, id): most shared first, ties by id
-    for (const auto& [other, count] : it->second)
-      if (count >= options.min_shared_tracks) neighbours.emplace_back(-count, other);
-    std::sort(neighbours.begin(), neighbours.end());
-    if (neighbours.size() < 2) continue;
-    neighbours.resize(std::min<size_t>(neighbours.size(), options.views - 1));
-    LocalMotion m;
-    m.image_ids.push_back(image_id);
-    for (const auto& [count, other] : neighbours) m.image_ids.push_back(other);
-    std::vector<uint32_t> key = m.image_ids;
-    std::sort(key.begin(), key.end());
-    if (!seen.insert(key).second) continue;
-    for (const uint32_t id : m.image_ids) m.local_poses.push_back(poses.at(id));
-    m.track_ids = TracksOfViews(per_image, m.image_ids);
-    motions.push_back(std::move(m));
+  for (const int stride : options.neighbour_strides) {
+    if (stride < 1) continue;
+    for (const auto& [image_id, pose] : poses) {
+      const auto it = shared.find(image_id);
+      if (it == shared.end()) continue;
+      std::vector<std::pair<int, uint32_t>> ranked;  // (-shared, id): most shared first, ties by id
+      for (const auto& [other, count] : it->second)
+        if (count >= options.min_shared_tracks) ranked.emplace_back(-count, other);
+      std::sort(ranked.begin(), ranked.end());
+      LocalMotion m;
+      m.image_ids.push_back(image_id);
+      for (size_t r = 0; r < ranked.size() && m.num_views() < options.views; r += stride)
+        m.image_ids.push_back(ranked[r].second);
+      if (m.num_views() < 3) continue;
+      std::vector<uint32_t> key = m.image_ids;
+      std::sort(key.begin(), key.end());
+      if (!seen.insert(key).second) continue;
+      for (const uint32_t id : m.image_ids) m.local_poses.push_back(poses.at(id));
+      m.track_ids = TracksOfViews(per_image, m.image_ids);
+      motions.push_back(std::move(m));
+    }
   }
   return motions;
 }

@@ -1,19 +1,21 @@
 // Which relative motions the local Hessian stage models. The paper's are the triplets of the
-// initialisation (N = 3). Its equations 1-5 hold for motions of any N views, and longer motions
-// keep information that triplets lose. Along a sequence, a triplet sees each track in at most
-// three consecutive views. A chain of triplets therefore constrains the slow bending of a
-// narrow-field sequence only through overlaps of two views. A motion of N neighbouring views
-// carries the same track over N views in one local BA. Measured on the longfocal synthetic
-// loop with point-based BAs over windows of N consecutive views: loop closure 0.85 px with
-// triplets, 0.41 px with N = 5, against 0.36 px for the full point-based BA.
+// initialisation (N = 3). Its equations 1-5 hold for motions of any N views, and longer
+// motions keep information that triplets lose: a triplet triangulates each point from its
+// three views, so the long tracks of a narrow-field sequence (tracks over 10-30 images,
+// where the wide angles are) are cut into short, nearly parallel-ray pieces. Measured on
+// the longfocal synthetic loops (`pgba benchmark --triplet-split` runs the point-based BA
+// over exactly the pieces a motion set sees): the cut pieces, not the quadratic models of
+// the local Hessians, are what the pointless BA loses against the point-based BA.
 //
-// N > 3 gives one motion per registered image: the image with its N - 1 best-connected
-// neighbours (most shared tracks). The motion starts from given global poses, in their frame.
-// Its own local BA then converges it (ConvergeLocalMotions) before the local Hessian is taken
-// at that solution, as the triplet BA does for the triplets. The start must be locally
-// accurate to a few pixels: the initialisation is not (tens to hundreds of pixels between
-// neighbours of a long-focal sequence), the triplets' pointless BA is (PrepareLocalHessians
-// of pose_refinement.h starts the motions there).
+// N > 3 gives one motion per registered image and stride s (neighbour_strides): the image
+// with N - 1 of its neighbours ranked by shared tracks, every s-th of them (s = 1: the
+// nearest; s = 3: a motion spread three times as far along the tracks). The motion starts
+// from given global poses, in their frame; its own local BA converges it
+// (ConvergeLocalMotions) before the local Hessian is taken at that solution, as the triplet
+// BA does for the triplets. The start must be locally accurate to a few pixels: the
+// initialisation is not (tens to hundreds of pixels between neighbours of a long-focal
+// sequence), the triplets' pointless BA is (PrepareLocalHessians of pose_refinement.h
+// starts the motions there).
 #pragma once
 
 #include <map>
@@ -36,14 +38,19 @@ struct LocalMotionOptions {
   // Levenberg-Marquardt iterations of each pass of the local BA that takes an N-view motion
   // from the initial poses to its own optimum (stops earlier on Ceres' tolerances).
   int max_iterations = 30;
+  // One family of motions per stride s: the image and every s-th of its neighbours ranked by
+  // shared tracks (s = 1: the nearest ones; larger s: a motion spread over a longer stretch
+  // of the tracks, which catches the long tracks that a window of near neighbours cuts).
+  std::vector<int> neighbour_strides = {1};
 };
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(LocalMotionOptions, views, min_shared_tracks, max_iterations)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(LocalMotionOptions, views, min_shared_tracks, max_iterations,
+                                                neighbour_strides)
 
-// The N-view motions (options.views > 3) over the images of `poses`: image ids (the image
-// first, then its neighbours by decreasing shared tracks, ties by id), local poses = the
-// given poses, global_to_local = identity, and track_ids = the tracks seen by at least two of
-// the views. Motions with the same set of images are kept once; an image with fewer than two
-// qualifying neighbours gets no motion of its own. Deterministic. For views <= 3 the result is
+// The N-view motions (options.views > 3) over the images of `poses`, stride by stride:
+// image ids (the image first, then its chosen neighbours by decreasing shared tracks, ties by
+// id), local poses = the given poses, global_to_local = identity, and track_ids = the tracks
+// seen by at least two of the views. Motions with the same set of images are kept once, and
+// motions of fewer than 3 views are not made. Deterministic. For views <= 3 the result is
 // empty: the triplets serve (MotionsOfTriplets).
 std::vector<LocalMotion> SelectLocalMotions(const Reconstruction& tracks, const std::map<uint32_t, Pose>& poses,
                                             const LocalMotionOptions& options);

@@ -136,6 +136,7 @@ RefinementResult RefineWithMotions(RefinementMethod method, const Reconstruction
   r.num_params = g.summary.num_params;
   r.iterations = g.summary.iterations;
   r.details = {{"motion_views", options.local_motions.views > 3 ? options.local_motions.views : 3},
+               {"motions", hessians.motions.size()},
                {"triplets_used", g.summary.num_triplets},
                {"triplets_excluded", g.summary.num_triplets_excluded},
                {"triplets_downweighted", g.summary.num_triplets_downweighted},
@@ -164,7 +165,9 @@ RefinementResult RefinePoses(RefinementMethod method, const Reconstruction& trac
     r = RefinePointBased(tracks, initial, options.point_based, record_history);
   } else if (method == RefinementMethod::kPointBasedSplit) {
     Timer split;
-    const Reconstruction triplet_tracks = SplitTracksByTriplets(tracks, triplets);
+    // Over the motions the local hessians model (the triplets unless local_motions.views > 3).
+    const Reconstruction triplet_tracks =
+        hessians ? SplitTracksByMotions(tracks, hessians->motions) : SplitTracksByTriplets(tracks, triplets);
     const double split_seconds = split.Seconds();
     r = RefinePointBased(triplet_tracks, initial, options.point_based, record_history);
     r.prepare_seconds += split_seconds;

@@ -4,13 +4,13 @@
 
 namespace pgba {
 
-Reconstruction SplitTracksByTriplets(const Reconstruction& tracks, const std::vector<Triplet>& triplets) {
+Reconstruction SplitTracksByMotions(const Reconstruction& tracks, const std::vector<LocalMotion>& motions) {
   Reconstruction split = tracks;
   split.points3D.clear();
   for (auto& [id, image] : split.images)
     for (Point2D& p : image.points2D) p.point3D_id = kNoPoint3D;
   std::vector<TrackElement> elements;
-  for (const Triplet& t : triplets) {
+  for (const LocalMotion& t : motions) {
     for (const auto& [point_id, point] : tracks.points3D) {
       elements.clear();
       for (const TrackElement& e : point.track) {

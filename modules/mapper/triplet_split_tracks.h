@@ -20,6 +20,11 @@ namespace pgba {
 
 // Images and cameras as in `tracks`; each image's points2D are its original observations
 // (unassigned) followed by one copy per triplet track that uses them.
-Reconstruction SplitTracksByTriplets(const Reconstruction& tracks, const std::vector<Triplet>& triplets);
+// The same for relative motions of any N views (local_motions.h): each track restricted to
+// each motion's views. SplitTracksByTriplets is the N = 3 case.
+Reconstruction SplitTracksByMotions(const Reconstruction& tracks, const std::vector<LocalMotion>& motions);
+inline Reconstruction SplitTracksByTriplets(const Reconstruction& tracks, const std::vector<Triplet>& triplets) {
+  return SplitTracksByMotions(tracks, MotionsOfTriplets(triplets));
+}
 
 }  // namespace pgba

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "benchmark/svg_plot.h"
+#include "mapper/run_pipeline.h"
 #include "synthetic/synthetic_scene.h"
 #include "tests/support/acceptance_scene.h"
 
@@ -106,6 +107,45 @@ TEST(SvgPlot, LogScaleSkipsNonPositiveValuesAndNamesEverySeries) {
   EXPECT_EQ(circles, 3u);
 }
 
+
+// The long-focal loop (93 telephoto views, tracks over 10-30 of them) with the preset's
+// motions of 7 views (configs/longfocal.json) against the paper's triplets, on one
+// initialisation. The triplets miss the sigma bar on this seed (1.24x point-based); the
+// motions meet it and halve the rotation error. The loop-closure bar (1.5x point-based) is
+// not met on this seed by either (2.5-2.6x; README, "Measured"); asserted here is that the
+// adjustment closes most of the initial loop error.
+TEST(LongFocalMotions, SevenViewMotionsMeetTheSigmaBarWhereTripletsMissIt) {
+  const SyntheticScene scene = test::AcceptanceScene(SyntheticScenario::kLongFocal, 0, /*seed=*/7);
+  const RunOptions preset = LoadRunOptions(std::string(PGBA_SOURCE_DIR) + "/configs/longfocal.json");
+  BenchmarkOptions options;
+  options.convergence = false;
+  options.mapper = preset.reconstruction.mapper;
+  Report report;
+  const GlobalMapperResult init = RunGlobalMapper(scene.input, options.mapper, &report);
+  options.refinement = preset.reconstruction.refinement;
+  ASSERT_EQ(options.refinement.local_motions.views, 7);
+  const BenchmarkResult motions = RunBenchmark(scene.input, init, &scene.gt, &scene.loop_pairs, options);
+  options.refinement.local_motions.views = 3;
+  const BenchmarkResult triplets = RunBenchmark(scene.input, init, &scene.gt, &scene.loop_pairs, options);
+
+  const MethodOutcome& pl = Method(motions, RefinementMethod::kPointless);
+  const MethodOutcome& pb = Method(motions, RefinementMethod::kPointBased);
+  const MethodOutcome& tr = Method(triplets, RefinementMethod::kPointless);
+  ASSERT_TRUE(pl.metrics.loop && pb.metrics.loop && motions.init_metrics.loop);
+  std::printf("  sigma: motions %.4f, triplets %.4f, point-based %.4f; rotation error median %.4f, %.4f, %.4f deg; "
+              "loop %.3f, %.3f, %.3f px (initial %.2f)\n",
+              pl.metrics.sigma.rms, tr.metrics.sigma.rms, pb.metrics.sigma.rms,
+              pl.metrics.ground_truth->rot_err_deg_median, tr.metrics.ground_truth->rot_err_deg_median,
+              pb.metrics.ground_truth->rot_err_deg_median, pl.metrics.loop->rms, tr.metrics.loop->rms,
+              pb.metrics.loop->rms, motions.init_metrics.loop->rms);
+  EXPECT_EQ(pl.refinement.poses.size(), scene.gt.images.size());
+  EXPECT_LE(pl.metrics.sigma.rms, 1.05 * pb.metrics.sigma.rms);
+  EXPECT_LT(pl.metrics.sigma.rms, tr.metrics.sigma.rms);
+  EXPECT_LE(4 * pl.refinement.num_params, pb.refinement.num_params);
+  EXPECT_LE(pl.metrics.ground_truth->rot_err_deg_median, 0.7 * tr.metrics.ground_truth->rot_err_deg_median);
+  EXPECT_LE(pl.metrics.loop->rms, 0.1 * motions.init_metrics.loop->rms);
+  EXPECT_EQ(motions.ToJson()["methods"]["pointless"]["details"]["method"]["motion_views"].get<int>(), 7);
+}
 
 // The pointless BA approximates, by one quadratic per triplet, the sum of the triplets' own
 // point-based costs (each triplet with its private points). A point-based BA over exactly

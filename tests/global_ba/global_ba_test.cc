@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "modules/global_ba/motion_similarity.h"
+#include "modules/local_hessian/local_motions.h"
 #include "pgba/util/error.h"
 #include "pgba/util/timer.h"
 #include "tests/global_ba/global_ba_fixture.h"
@@ -90,6 +91,44 @@ TEST(GlobalBA, PointlessMatchesPointBasedAndBeatsAveraging) {
   EXPECT_EQ(pl.summary.cost_per_iteration.size(), curve.size());
   EXPECT_NEAR(curve.front(), sigma_init, 1e-9);
   EXPECT_NEAR(curve.back(), sigma_pl, 1e-9);
+}
+
+// Motions of six views (local_motions.h) in place of the triplets: the same global BA with
+// 36 x 36 local Hessians reaches the point-based BA's sigma, and without noise the truth.
+TEST(GlobalBA, SixViewMotionsMatchPointBasedAndRecoverTheTruthWithoutNoise) {
+  for (const double noise : {0.5, 0.0}) {
+    RingSceneOptions o;
+    o.num_images = 24;
+    o.num_points = 3000;
+    o.noise_px = noise;
+    o.seed = 71;
+    const Reconstruction rec = MakeRingScene(o);
+    const std::map<uint32_t, Pose> gt = PosesOf(rec);
+    const std::map<uint32_t, Pose> initial = PerturbPoses(gt, 1.0, 0.02 * SceneExtent(gt), 72);
+    LocalMotionOptions mo;
+    mo.views = 6;
+    // The motions start near their optimum (in the pipeline: the triplets' pointless BA).
+    std::vector<LocalMotion> motions = SelectLocalMotions(rec, PerturbPoses(gt, 0.02, 1e-3, 73), mo);
+    ConvergeLocalMotions(rec, LocalHessianOptions(), mo, &motions);
+    const LocalHessianResult lh = ComputeLocalHessians(rec, motions, LocalHessianOptions());
+    ASSERT_EQ(lh.num_ok(), static_cast<int>(motions.size()));
+    const GlobalBAResult pl = PointlessGlobalBA(initial, motions, lh.hessians, GlobalBAOptions());
+    ASSERT_EQ(pl.poses.size(), gt.size());
+    EXPECT_EQ(pl.summary.num_params, 6 * 24 + 7 * static_cast<int>(motions.size()));
+    const PoseErrors err = GroundTruthErrors(pl.poses, gt);
+    if (noise == 0.0) {
+      EXPECT_LT(err.rot_deg_max, 1e-5);
+      EXPECT_LT(err.center_rel_median, 1e-7);
+      continue;
+    }
+    const std::map<uint32_t, Pose> pb = PointBasedBA(rec, initial);
+    const double sigma_pl = SigmaPx(rec, pl.poses);
+    const double sigma_pb = SigmaPx(rec, pb);
+    std::printf("six-view motions: sigma pointless %.4f point-based %.4f, rot err %.5f vs %.5f deg\n", sigma_pl,
+                sigma_pb, err.rot_deg_median, GroundTruthErrors(pb, gt).rot_deg_median);
+    EXPECT_LE(sigma_pl, 1.01 * sigma_pb);
+    EXPECT_LE(err.rot_deg_median, 2.0 * GroundTruthErrors(pb, gt).rot_deg_median);
+  }
 }
 
 TEST(GlobalBA, GaugeChoicesAgree) {

@@ -89,6 +89,41 @@ TEST(LocalMotions, EachImageWithItsBestConnectedNeighbours) {
   EXPECT_TRUE(SelectLocalMotions(rec, poses, o).empty());
 }
 
+// A stride of 2 takes every second neighbour of the ranking (i+1, i+2, i+3 rather than i+1,
+// i-1, i+2 on a ring): the motion reaches further along the tracks than the stride-1 motion
+// (mean largest chord 1.46x here).
+TEST(LocalMotions, StridesSpreadAMotionAlongTheTracks) {
+  const Reconstruction rec = Ring(0.5, 3);
+  const std::map<uint32_t, Pose> poses = PosesOf(rec);
+  LocalMotionOptions o;
+  o.views = 4;
+  o.neighbour_strides = {1, 2};
+  const std::vector<LocalMotion> motions = SelectLocalMotions(rec, poses, o);
+  o.neighbour_strides = {1};
+  const size_t near = SelectLocalMotions(rec, poses, o).size();
+  ASSERT_GT(motions.size(), near);
+  auto span = [&](const LocalMotion& m) {  // largest centre distance from the motion's image
+    double d = 0.0;
+    for (const uint32_t id : m.image_ids) d = std::max(d, (poses.at(id).C() - poses.at(m.image_ids[0]).C()).norm());
+    return d;
+  };
+  double near_span = 0.0, far_span = 0.0;
+  for (size_t i = 0; i < motions.size(); ++i) (i < near ? near_span : far_span) += span(motions[i]);
+  near_span /= near;
+  far_span /= motions.size() - near;
+  EXPECT_GT(far_span, 1.2 * near_span);
+  for (size_t i = near; i < motions.size(); ++i) {
+    // Every second neighbour: ranks 0, 2, 4 of the image's ranking.
+    const LocalMotion& m = motions[i];
+    const uint32_t c = m.image_ids[0];
+    std::vector<std::pair<int, uint32_t>> ranked;
+    for (const auto& [id, pose] : poses)
+      if (id != c && Shared(rec, c, id) >= o.min_shared_tracks) ranked.emplace_back(-Shared(rec, c, id), id);
+    std::sort(ranked.begin(), ranked.end());
+    for (int k = 1; k < m.num_views(); ++k) EXPECT_EQ(m.image_ids[k], ranked[2 * (k - 1)].second);
+  }
+}
+
 // From poses off by 0.05 deg (several pixels), a motion's local BA reaches the truth on a
 // noise-free scene (up to the similarity of its frame), and its local Hessian is 6N x 6N
 // with exactly the 7 similarity directions unseen.

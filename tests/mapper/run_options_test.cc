@@ -26,7 +26,7 @@ TEST(RunOptions, EveryPresetLoads) {
   const RunOptions video = LoadRunOptions((configs / "video.json").string());
   EXPECT_EQ(video.matching.pairs.method, "sequential");
   const RunOptions longfocal = LoadRunOptions((configs / "longfocal.json").string());
-  EXPECT_EQ(longfocal.reconstruction.mapper.triplets.max_triplets_per_image, 15);
+  EXPECT_EQ(longfocal.reconstruction.refinement.local_motions.views, 7);
 }
 
 TEST(RunOptions, UnknownKeyNamesTheFile) {
