@@ -245,9 +245,9 @@ GlobalBAResult RunGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const 
   summary.num_gcp_residuals = static_cast<int>(u.gcp_terms.size());
   summary.gcp_gauge = u.gcp_gauge;
   if (sel.num_excluded > 0 || !sel.excluded_images.empty())
-    PGBA_LOG_WARN << "global BA: " << sel.num_excluded << " triplets and " << sel.excluded_images.size()
+    PGBA_LOG_WARN << "global BA: " << sel.num_excluded << " motions and " << sel.excluded_images.size()
                   << " images excluded (no usable local hessian, no initial pose, or outside the largest "
-                     "rigidly connected triplet component)";
+                     "rigidly connected component of the motions)";
 
   for (int round = 0; round < std::max(1, options.max_rounds); ++round) {
     const double sigma = Reweight(&u, options);
@@ -278,10 +278,10 @@ GlobalBAResult RunGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const 
   }
   summary.seconds = timer.Seconds();
   PGBA_LOG_INFO << "global BA (" << (options.weighting == TripletWeighting::kHessian ? "pointless" : "averaging")
-                << "): " << summary.num_poses << " poses, " << summary.num_triplets << " triplets, "
+                << "): " << summary.num_poses << " poses, " << summary.num_triplets << " motions, "
                 << summary.iterations << " iterations in " << summary.rounds << " rounds, " << summary.seconds
                 << " s, fitting scale " << summary.robust_scale << ", " << summary.num_triplets_downweighted
-                << " triplets down-weighted"
+                << " motions down-weighted"
                 << (std::isfinite(summary.misfit_ratio) ? ", misfit " + std::to_string(summary.misfit_ratio) : "");
   return result;
 }

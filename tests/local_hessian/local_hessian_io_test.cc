@@ -10,6 +10,7 @@
 #include <random>
 #include <sstream>
 
+#include "modules/local_hessian/local_motions.h"
 #include "pgba/util/error.h"
 #include "tests/local_hessian/ring_scene.h"
 
@@ -111,6 +112,52 @@ TEST(LocalHessianIo, ForeignOrDamagedFilesAreErrorsNamingTheEntry) {
   EXPECT_NE(ErrorOf(p, f, f.triplets).find("version"), std::string::npos);
   with("\"status\":\"ok\"", "\"status\":\"fine\"");
   EXPECT_NE(ErrorOf(p, f, f.triplets).find("unknown status"), std::string::npos);
+  fs::remove(p);
+}
+
+// Motions of five views: 30 x 30 h and a 30-vector newton_step survive the round trip; a file
+// written for the triplets does not read against them; files of the triplet-only versions
+// (key "triplet_index") still read.
+TEST(LocalHessianIo, FiveViewMotionsRoundTripAndAreCheckedAgainstTheMotions) {
+  const Fixture f = Make();
+  LocalMotionOptions o;
+  o.views = 5;
+  const std::vector<LocalMotion> motions = SelectLocalMotions(f.rec, PosesOf(f.rec), o);
+  ASSERT_FALSE(motions.empty());
+  const LocalHessianResult result = ComputeLocalHessians(f.rec, motions, LocalHessianOptions());
+  ASSERT_EQ(result.num_ok(), static_cast<int>(motions.size()));
+  const fs::path p = fs::temp_directory_path() / "pgba_lh_motions.json";
+  WriteLocalHessians(p, f.rec, result);
+  const LocalHessianResult back = ReadLocalHessians(p, f.rec, motions);
+  ASSERT_EQ(back.hessians.size(), motions.size());
+  for (size_t i = 0; i < motions.size(); ++i) {
+    const LocalHessian &a = result.hessians[i], &b = back.hessians[i];
+    ASSERT_EQ(b.h.rows(), 30);
+    EXPECT_EQ((a.h - b.h).cwiseAbs().maxCoeff(), 0.0) << i;
+    EXPECT_EQ(a.newton_step, b.newton_step) << i;
+    EXPECT_EQ(b.local_poses.size(), 5u);
+    const Eigen::MatrixXd W = b.D.asDiagonal() * b.V;
+    EXPECT_LT((W.transpose() * W - a.h).norm(), 1e-9 * a.h.norm()) << i;
+  }
+  // Against the triplets of the same scene (another motion set): an error naming the file.
+  std::vector<LocalMotion> as_triplets = MotionsOfTriplets(f.triplets);
+  as_triplets.resize(motions.size());
+  std::string error;
+  try {
+    ReadLocalHessians(p, f.rec, as_triplets);
+  } catch (const InputError& e) {
+    error = e.what();
+  }
+  EXPECT_NE(error.find(p.string()), std::string::npos) << error;
+  EXPECT_NE(error.find("hessians[0]"), std::string::npos) << error;
+  // The key of the triplet-only files.
+  nlohmann::json j = nlohmann::json::parse(ReadAll(p));
+  for (nlohmann::json& e : j["hessians"]) {
+    e["triplet_index"] = e["motion_index"];
+    e.erase("motion_index");
+  }
+  std::ofstream(p) << j.dump();
+  EXPECT_EQ(ReadLocalHessians(p, f.rec, motions).num_ok(), result.num_ok());
   fs::remove(p);
 }
 
