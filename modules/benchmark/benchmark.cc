@@ -8,6 +8,7 @@
 
 #include "benchmark/svg_plot.h"
 #include "averaging/outlier_injection.h"
+#include "pgba/io/report.h"
 #include "pgba/util/text_format.h"
 #include "pgba/scene/triangulate_model.h"
 #include "pgba/util/error.h"
@@ -95,8 +96,6 @@ SweepPoint RunSweepPoint(const Reconstruction& tracks, double fraction, const Be
   }
   return p;
 }
-
-nlohmann::json NumberOrNull(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
 }  // namespace
 

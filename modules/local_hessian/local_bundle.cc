@@ -129,24 +129,21 @@ LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const L
 
 bool SolveLocalBundle(int max_iterations, LocalBundleProblem* p, bool fix_gauge) {
   if (max_iterations > 0) {
-    // Huber on the pixel error, then the attenuation weight on the squared residual; one
-    // loss object shared by all observations of weight 1, one of its own for the others
-    // (shared_observation_weighting).
-    ceres::ScaledLoss loss(new ceres::HuberLoss(p->huber_px), p->observation_weight, ceres::TAKE_OWNERSHIP);
-    std::vector<std::unique_ptr<ceres::LossFunction>> own;
+    // Huber on the pixel error, then the attenuation weight on the squared residual: one loss
+    // object per distinct weight (1, or 1/n with shared_observation_weighting), shared by the
+    // observations that have it.
+    std::map<double, std::unique_ptr<ceres::LossFunction>> losses;
     ceres::Problem::Options po;
     po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     ceres::Problem problem(po);
     for (auto& pose : p->poses) problem.AddParameterBlock(pose.x.data(), 6);
     for (auto& X : p->points) problem.AddParameterBlock(X.data(), 3);
     for (const LocalObservation& o : p->observations) {
-      ceres::LossFunction* l = &loss;
-      if (o.weight != 1.0) {
-        own.emplace_back(new ceres::ScaledLoss(new ceres::HuberLoss(p->huber_px), p->observation_weight * o.weight,
-                                               ceres::TAKE_OWNERSHIP));
-        l = own.back().get();
-      }
-      problem.AddResidualBlock(ReprojectionError::Create(p->cameras[o.view], p->poses[o.view].R0, o.pixel), l,
+      std::unique_ptr<ceres::LossFunction>& l = losses[o.weight];
+      if (!l)
+        l = std::make_unique<ceres::ScaledLoss>(new ceres::HuberLoss(p->huber_px), p->observation_weight * o.weight,
+                                                ceres::TAKE_OWNERSHIP);
+      problem.AddResidualBlock(ReprojectionError::Create(p->cameras[o.view], p->poses[o.view].R0, o.pixel), l.get(),
                                p->poses[o.view].x.data(), p->points[o.point].data());
     }
     if (p->prior.size() > 0 && !p->prior.isZero(0.0)) {

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "mapper/triplet_split_tracks.h"
+#include "pgba/io/report.h"
 #include "pgba/scene/triangulate_model.h"
 #include "pgba/util/error.h"
 #include "pgba/util/logging.h"
@@ -144,9 +145,8 @@ RefinementResult RefineWithMotions(RefinementMethod method, const Reconstruction
                {"fitting_scale", g.summary.robust_scale},
                {"local_hessians", LocalHessianStatusCounts(hessians.result)}};
   if (method == RefinementMethod::kPointless) {
-    auto number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
-    r.details["misfit_ratio_initial"] = number(g.summary.misfit_ratio_initial);
-    r.details["misfit_ratio"] = number(g.summary.misfit_ratio);
+    r.details["misfit_ratio_initial"] = NumberOrNull(g.summary.misfit_ratio_initial);
+    r.details["misfit_ratio"] = NumberOrNull(g.summary.misfit_ratio);
     r.details["relinearizations"] = g.summary.relinearizations;
     r.details["relinearization_seconds"] = g.summary.relinearization_seconds;
   }

@@ -6,12 +6,17 @@
 // a truncated report behind.
 #pragma once
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "pgba/util/timer.h"
 
 namespace pgba {
+
+// A finite number as itself, NaN or inf as null (JSON has neither): the reports' spelling of
+// "not measured".
+inline nlohmann::json NumberOrNull(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
 class Report {
  public:
