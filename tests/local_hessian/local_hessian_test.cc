@@ -12,13 +12,16 @@
 
 #include "modules/local_hessian/local_bundle.h"
 #include "modules/local_hessian/reduced_camera_matrix.h"
+#include "tests/local_hessian/dense_reference.h"
 #include "tests/local_hessian/ring_scene.h"
 
 namespace pgba {
 namespace {
 
+using testing::DenseCovariance;
 using testing::MakeRingScene;
 using testing::MakeTriplet;
+using testing::RelativeDifference;
 using testing::RingSceneOptions;
 
 // The local BA cost 1/2 sum w rho(|r|^2) at fixed poses, points re-optimised to convergence
@@ -51,16 +54,6 @@ double CostWithPointsOptimised(const LocalBundleProblem& p, const std::vector<Po
   return summary.final_cost;
 }
 
-// Scale-aware comparison of two 18x18 matrices (positions scaled by L so that rotation and
-// position entries are commensurate): relative Frobenius difference.
-double RelativeDifference(const Matrix18d& a, const Matrix18d& b, double L) {
-  Vector18d s;
-  for (int k = 0; k < 3; ++k) s.segment<6>(6 * k) << L, L, L, 1, 1, 1;
-  const Matrix18d as = s.asDiagonal() * a * s.asDiagonal();
-  const Matrix18d bs = s.asDiagonal() * b * s.asDiagonal();
-  return (as - bs).norm() / bs.norm();
-}
-
 // (a) h is the inverse of the camera block of the covariance of the full problem, built
 // independently: Ceres' own Jacobian (Problem::Evaluate, with the Huber loss correction),
 // H = J^T J + prior, inverted densely.
@@ -86,35 +79,16 @@ TEST(LocalHessian, EqualsInverseOfCameraBlockOfDenseCovariance) {
   const Matrix18d h = red.h + prior.P;
 
   // Dense reference.
-  ceres::Problem problem;
-  std::vector<double*> blocks;
-  std::vector<PoseBlock> poses = p.poses;
-  std::vector<Eigen::Vector3d> points = p.points;
-  for (auto& b : poses) blocks.push_back(b.x.data());
-  for (auto& X : points) blocks.push_back(X.data());
   int outside_huber = 0;
   for (const LocalObservation& o : p.observations) {
-    problem.AddResidualBlock(
-        ReprojectionError::Create(p.cameras[o.view], poses[o.view].R0, o.pixel),
-        new ceres::ScaledLoss(new ceres::HuberLoss(p.huber_px), p.observation_weight, ceres::TAKE_OWNERSHIP),
-        poses[o.view].x.data(), points[o.point].data());
-    const ReprojectionError e(p.cameras[o.view], poses[o.view].R0, o.pixel);
+    const ReprojectionError e(p.cameras[o.view], p.poses[o.view].R0, o.pixel);
     double r[2];
-    e(poses[o.view].x.data(), points[o.point].data(), r);
+    e(p.poses[o.view].x.data(), p.points[o.point].data(), r);
     outside_huber += std::hypot(r[0], r[1]) > p.huber_px;
   }
   EXPECT_GT(outside_huber, 10);
-  ceres::Problem::EvaluateOptions eo;
-  eo.parameter_blocks = blocks;
-  eo.apply_loss_function = true;
-  ceres::CRSMatrix crs;
-  ASSERT_TRUE(problem.Evaluate(eo, nullptr, nullptr, nullptr, &crs));
-  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
-  for (int r = 0; r < crs.num_rows; ++r)
-    for (int i = crs.rows[r]; i < crs.rows[r + 1]; ++i) J(r, crs.cols[i]) = crs.values[i];
-  Eigen::MatrixXd H = J.transpose() * J;
-  H.topLeftCorner<18, 18>() += prior.P;
-  const Eigen::MatrixXd cov = H.fullPivLu().inverse();
+  const Eigen::MatrixXd cov = DenseCovariance(p, prior.P);
+  ASSERT_GT(cov.rows(), 18);
   const Matrix18d h_ref = cov.topLeftCorner<18, 18>().fullPivLu().inverse();
   const double diff = RelativeDifference(h, h_ref, L);
   EXPECT_LT(diff, 1e-6) << "points " << p.points.size();

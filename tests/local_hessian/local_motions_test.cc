@@ -11,6 +11,7 @@
 #include "modules/local_hessian/reduced_camera_matrix.h"
 #include "pgba/geometry/rotation.h"
 #include "tests/global_ba/global_ba_fixture.h"
+#include "tests/local_hessian/dense_reference.h"
 #include "tests/local_hessian/ring_scene.h"
 
 namespace pgba {
@@ -184,35 +185,11 @@ TEST(LocalMotions, HessianEqualsInverseOfCameraBlockOfDenseCovariance) {
   const int n = 30;
   ASSERT_EQ(h.rows(), n);
 
-  ceres::Problem problem;
-  std::vector<double*> blocks;
-  std::vector<PoseBlock> poses = p.poses;
-  std::vector<Eigen::Vector3d> points = p.points;
-  for (auto& b : poses) blocks.push_back(b.x.data());
-  for (auto& X : points) blocks.push_back(X.data());
-  for (const LocalObservation& o2 : p.observations)
-    problem.AddResidualBlock(
-        ReprojectionError::Create(p.cameras[o2.view], poses[o2.view].R0, o2.pixel),
-        new ceres::ScaledLoss(new ceres::HuberLoss(p.huber_px), p.observation_weight, ceres::TAKE_OWNERSHIP),
-        poses[o2.view].x.data(), points[o2.point].data());
-  ceres::Problem::EvaluateOptions eo;
-  eo.parameter_blocks = blocks;
-  ceres::CRSMatrix crs;
-  ASSERT_TRUE(problem.Evaluate(eo, nullptr, nullptr, nullptr, &crs));
-  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
-  for (int r = 0; r < crs.num_rows; ++r)
-    for (int i = crs.rows[r]; i < crs.rows[r + 1]; ++i) J(r, crs.cols[i]) = crs.values[i];
-  Eigen::MatrixXd H = J.transpose() * J;
-  H.topLeftCorner(n, n) += prior.P;
-  const Eigen::MatrixXd cov = H.fullPivLu().inverse();
+  const Eigen::MatrixXd cov = testing::DenseCovariance(p, prior.P);
+  ASSERT_GT(cov.rows(), n);
   const Eigen::MatrixXd h_ref = cov.topLeftCorner(n, n).fullPivLu().inverse();
   // Scale-aware relative difference (positions by the depth, as for the triplets).
-  const double L = MedianDepth(p);
-  Eigen::VectorXd s(n);
-  for (int k = 0; k < 5; ++k) s.segment<6>(6 * k) << L, L, L, 1, 1, 1;
-  const Eigen::MatrixXd hs = s.asDiagonal() * h * s.asDiagonal();
-  const Eigen::MatrixXd rs = s.asDiagonal() * h_ref * s.asDiagonal();
-  EXPECT_LT((hs - rs).norm() / rs.norm(), 1e-6);
+  EXPECT_LT(testing::RelativeDifference(h, h_ref, MedianDepth(p)), 1e-6);
 }
 
 }  // namespace
