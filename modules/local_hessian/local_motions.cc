@@ -100,11 +100,16 @@ void ConvergeLocalMotions(const Reconstruction& tracks, const LocalHessianOption
   });
 }
 
+std::vector<LocalMotion> ChooseLocalMotions(const Reconstruction& tracks, const std::map<uint32_t, Pose>& poses,
+                                            const std::vector<Triplet>& triplets, const LocalMotionOptions& options) {
+  return options.views <= 3 ? MotionsOfTriplets(triplets) : SelectLocalMotions(tracks, poses, options);
+}
+
 std::vector<LocalMotion> BuildLocalMotions(const Reconstruction& tracks, const std::map<uint32_t, Pose>& poses,
                                            const std::vector<Triplet>& triplets,
                                            const LocalHessianOptions& lh_options, const LocalMotionOptions& options) {
-  if (options.views <= 3) return MotionsOfTriplets(triplets);
-  std::vector<LocalMotion> motions = SelectLocalMotions(tracks, poses, options);
+  std::vector<LocalMotion> motions = ChooseLocalMotions(tracks, poses, triplets, options);
+  if (options.views <= 3) return motions;
   ConvergeLocalMotions(tracks, lh_options, options, &motions);
   PGBA_LOG_INFO << "local motions: " << motions.size() << " motions of up to " << options.views << " views over "
                 << poses.size() << " images";

@@ -63,8 +63,14 @@ std::vector<LocalMotion> SelectLocalMotions(const Reconstruction& tracks, const 
 void ConvergeLocalMotions(const Reconstruction& tracks, const LocalHessianOptions& lh_options,
                           const LocalMotionOptions& options, std::vector<LocalMotion>* motions);
 
-// The motions the local Hessian stage models: the triplets as motions (views <= 3), or the
-// N-view motions selected and converged from `poses`.
+// The motions the local Hessian stage models, before any local BA: the triplets as motions
+// (views <= 3), or SelectLocalMotions over `poses`. Which motions depends only on the
+// images of `poses`, so a re-run from a workspace (`reconstruct --workspace`) finds the same
+// ones from its initial poses.
+std::vector<LocalMotion> ChooseLocalMotions(const Reconstruction& tracks, const std::map<uint32_t, Pose>& poses,
+                                            const std::vector<Triplet>& triplets, const LocalMotionOptions& options);
+
+// ChooseLocalMotions, the N-view ones then converged from `poses` (ConvergeLocalMotions).
 std::vector<LocalMotion> BuildLocalMotions(const Reconstruction& tracks, const std::map<uint32_t, Pose>& poses,
                                            const std::vector<Triplet>& triplets,
                                            const LocalHessianOptions& lh_options, const LocalMotionOptions& options);

@@ -49,12 +49,15 @@ PreparedHessians PrepareLocalHessians(const Reconstruction& tracks, const std::m
   std::map<uint32_t, Pose> start = initial;
   if (options.local_motions.views > 3) {
     // N-view motions start where the triplets' pointless BA ends: the initial poses are too
-    // far from the local optima of long motions (local_motions.h).
+    // far from the local optima of long motions (local_motions.h). Images that BA leaves out
+    // keep their initial pose, so that the motions are chosen over the same images as from
+    // a workspace's initial poses (ChooseLocalMotions).
     PGBA_LOG_INFO << "local motions: the triplets' pointless BA gives the motions their starting poses";
     const LocalHessianResult triplet_hessians = ComputeLocalHessians(tracks, triplets, options.local_hessian);
-    start = RelinearizedGlobalBA(tracks, options.local_hessian, initial, MotionsOfTriplets(triplets),
-                                 triplet_hessians.hessians, options.global_ba)
-                .poses;
+    const GlobalBAResult refined = RelinearizedGlobalBA(tracks, options.local_hessian, initial,
+                                                        MotionsOfTriplets(triplets), triplet_hessians.hessians,
+                                                        options.global_ba);
+    for (const auto& [id, pose] : refined.poses) start[id] = pose;
   }
   out.motions = BuildLocalMotions(tracks, start, triplets, options.local_hessian, options.local_motions);
   out.result = ComputeLocalHessians(tracks, out.motions, options.local_hessian);
@@ -166,10 +169,10 @@ RefinementResult RefinePoses(RefinementMethod method, const Reconstruction& trac
   } else if (method == RefinementMethod::kPointBasedSplit) {
     Timer split;
     // Over the motions the local hessians model (the triplets unless local_motions.views > 3).
-    const Reconstruction triplet_tracks =
+    const Reconstruction split_tracks =
         hessians ? SplitTracksByMotions(tracks, hessians->motions) : SplitTracksByTriplets(tracks, triplets);
     const double split_seconds = split.Seconds();
-    r = RefinePointBased(triplet_tracks, initial, options.point_based, record_history);
+    r = RefinePointBased(split_tracks, initial, options.point_based, record_history);
     r.prepare_seconds += split_seconds;
   } else {
     if (!hessians) throw std::invalid_argument("RefinePoses: local hessians are required for this method");

@@ -143,9 +143,8 @@ ReconstructionOutput ReconstructFromWorkspace(const Reconstruction& tracks, cons
   if (given) {
     StageTimer timer(report, "local_hessians");
     // The motions again (without their local BAs: the file holds each model's own x0).
-    const LocalMotionOptions& lm = options.refinement.local_motions;
-    out.hessians.motions = lm.views > 3 ? SelectLocalMotions(tracks, out.init.init.poses, lm)
-                                        : MotionsOfTriplets(out.init.init.triplets);
+    out.hessians.motions =
+        ChooseLocalMotions(tracks, out.init.init.poses, out.init.init.triplets, options.refinement.local_motions);
     out.hessians.result = ReadLocalHessians(hessians, tracks, out.hessians.motions);
     nlohmann::json& stage = timer.Stop();
     stage["read_from"] = hessians.string();
