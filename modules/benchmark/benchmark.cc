@@ -198,14 +198,19 @@ void PrintBenchmarkTables(const BenchmarkResult& result, std::ostream& out) {
       out << line;
     }
   }
-  if (result.init_metrics.ground_truth && result.init_metrics.ground_truth->ok) {
-    out << "\nGround truth (after a similarity alignment of the centres)\n";
-    std::snprintf(line, sizeof(line), "%-22s %12s %12s %14s %10s\n", "method", "rot_med_deg", "rot_max_deg",
-                  "centre_med_rel", "images");
+  if (result.init_metrics.ground_truth && result.init_metrics.ground_truth->num_pairs > 0) {
+    out << "\nGround truth: gauge-free errors over all image pairs (rel_*), and after a similarity alignment of "
+           "the centres\n";
+    std::snprintf(line, sizeof(line), "%-22s %12s %12s %12s %12s %12s %14s %10s\n", "method", "rel_rot_med",
+                  "rel_rot_max", "rel_dir_med", "rot_med_deg", "rot_max_deg", "centre_med_rel", "images");
     out << line;
     auto row = [&](const char* name, const EvaluationMetrics& e) {
+      const bool pairs = e.ground_truth && e.ground_truth->num_pairs > 0;
       const bool ok = e.ground_truth && e.ground_truth->ok;
-      std::snprintf(line, sizeof(line), "%-22s %12s %12s %14s %4zu / %-4zu\n", name,
+      std::snprintf(line, sizeof(line), "%-22s %12s %12s %12s %12s %12s %14s %4zu / %-4zu\n", name,
+                    FormatNumber("%.5f", pairs ? e.ground_truth->rel_rot_err_deg_median : kNaN).c_str(),
+                    FormatNumber("%.5f", pairs ? e.ground_truth->rel_rot_err_deg_max : kNaN).c_str(),
+                    FormatNumber("%.5f", pairs ? e.ground_truth->rel_dir_err_deg_median : kNaN).c_str(),
                     FormatNumber("%.5f", ok ? e.ground_truth->rot_err_deg_median : kNaN).c_str(),
                     FormatNumber("%.5f", ok ? e.ground_truth->rot_err_deg_max : kNaN).c_str(),
                     FormatNumber("%.3e", ok ? e.ground_truth->center_err_rel_median : kNaN).c_str(), e.images_registered,
@@ -230,6 +235,14 @@ void PrintBenchmarkTables(const BenchmarkResult& result, std::ostream& out) {
         << FormatNumber("%.3f", (pl->refinement.adjust_seconds + pl->refinement.prepare_seconds) /
                            (pb->refinement.adjust_seconds + pb->refinement.prepare_seconds))
         << "\n";
+    const auto& gl = pl->metrics.ground_truth;
+    const auto& gb = pb->metrics.ground_truth;
+    if (gl && gb && gl->num_pairs > 0 && gb->num_pairs > 0)
+      out << "pointless / point-based: relative rotation error median "
+          << FormatNumber("%.3f", gl->rel_rot_err_deg_median / gb->rel_rot_err_deg_median) << ", max "
+          << FormatNumber("%.3f", gl->rel_rot_err_deg_max / gb->rel_rot_err_deg_max)
+          << ", translation direction error median "
+          << FormatNumber("%.3f", gl->rel_dir_err_deg_median / gb->rel_dir_err_deg_median) << "\n";
   }
   if (pl && pl->refinement.details.contains("relinearizations")) {
     const nlohmann::json& d = pl->refinement.details;

@@ -36,6 +36,15 @@ nlohmann::json EvaluationMetrics::ToJson() const {
       j["rot_err_deg_max"] = ground_truth->rot_err_deg_max;
       j["center_err_rel_median"] = ground_truth->center_err_rel_median;
       j["center_err_rel_max"] = ground_truth->center_err_rel_max;
+    }
+    if (ground_truth->num_pairs > 0) {
+      j["rel_rot_err_deg_median"] = ground_truth->rel_rot_err_deg_median;
+      j["rel_rot_err_deg_max"] = ground_truth->rel_rot_err_deg_max;
+      j["rel_dir_err_deg_median"] = ground_truth->rel_dir_err_deg_median;
+      j["rel_dir_err_deg_max"] = ground_truth->rel_dir_err_deg_max;
+      details["gt_pairs"] = ground_truth->num_pairs;
+    }
+    if (ground_truth->ok) {
       details["gt_alignment_inliers"] = ground_truth->num_alignment_inliers;
       details["gt_centres_collinearity"] = ground_truth->collinearity;
       details["gt_scene_extent"] = ground_truth->scene_extent;
@@ -81,6 +90,11 @@ void EvaluationMetrics::PrintTable(std::ostream& out) const {
     Row(out, "rot err max (deg)", g.ok ? FormatNumber("%.4g", g.rot_err_deg_max) : na);
     Row(out, "centre err median (rel)", g.ok ? FormatNumber("%.3e", g.center_err_rel_median) : na);
     Row(out, "centre err max (rel)", g.ok ? FormatNumber("%.3e", g.center_err_rel_max) : na);
+    const bool pairs = g.num_pairs > 0;
+    Row(out, "rel. rot err med (deg)", pairs ? FormatNumber("%.4g", g.rel_rot_err_deg_median) : na);
+    Row(out, "rel. rot err max (deg)", pairs ? FormatNumber("%.4g", g.rel_rot_err_deg_max) : na);
+    Row(out, "rel. dir err med (deg)", pairs ? FormatNumber("%.4g", g.rel_dir_err_deg_median) : na);
+    Row(out, "rel. dir err max (deg)", pairs ? FormatNumber("%.4g", g.rel_dir_err_deg_max) : na);
   }
   if (loop) {
     Row(out, "loop pairs evaluated", std::to_string(loop->num_evaluated) + " / " +

@@ -59,6 +59,29 @@ double Collinearity(const std::vector<Eigen::Vector3d>& c, Eigen::Vector3d* axis
 
 }  // namespace
 
+void RelativePoseErrors(const std::vector<Pose>& est, const std::vector<Pose>& truth, GroundTruthErrors* out) {
+  const size_t n = std::min(est.size(), truth.size());
+  std::vector<double> rot, dir;
+  rot.reserve(n * (n - 1) / 2 + 1);
+  dir.reserve(n * (n - 1) / 2 + 1);
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Matrix3d Ri = est[i].R(), Ri_gt = truth[i].R();
+    for (size_t j = i + 1; j < n; ++j) {
+      rot.push_back(RotationAngleDeg(est[j].R() * Ri.transpose(), truth[j].R() * Ri_gt.transpose()));
+      const Eigen::Vector3d d = Ri * (est[j].C() - est[i].C());
+      const Eigen::Vector3d d_gt = Ri_gt * (truth[j].C() - truth[i].C());
+      // A pair with coincident centres has no direction: it is left out of that metric only.
+      if (d.norm() > 0 && d_gt.norm() > 0)
+        dir.push_back(std::atan2(d.cross(d_gt).norm(), d.dot(d_gt)) * 180.0 / M_PI);
+    }
+  }
+  out->num_pairs = rot.size();
+  out->rel_rot_err_deg_median = rot.empty() ? 0.0 : Median(rot);
+  out->rel_rot_err_deg_max = rot.empty() ? 0.0 : Max(rot);
+  out->rel_dir_err_deg_median = dir.empty() ? 0.0 : Median(dir);
+  out->rel_dir_err_deg_max = dir.empty() ? 0.0 : Max(dir);
+}
+
 GroundTruthErrors CompareToGroundTruth(const Reconstruction& model, const Reconstruction& gt,
                                        const GroundTruthOptions& options) {
   GroundTruthErrors out;
@@ -75,6 +98,15 @@ GroundTruthErrors CompareToGroundTruth(const Reconstruction& model, const Recons
   for (size_t i = 0; i < out.num_common; ++i) {
     est[i] = est_images[i]->pose.C();
     truth[i] = gt_images[i]->pose.C();
+  }
+
+  {
+    std::vector<Pose> est_poses, gt_poses;
+    for (size_t i = 0; i < out.num_common; ++i) {
+      est_poses.push_back(est_images[i]->pose);
+      gt_poses.push_back(gt_images[i]->pose);
+    }
+    RelativePoseErrors(est_poses, gt_poses, &out);
   }
 
   std::vector<bool> use(out.num_common, true);

@@ -12,6 +12,14 @@
 // where the scene extent is the largest distance between two ground-truth camera centres
 // (over all images of the ground-truth model, so that it does not depend on how many images
 // a method registered, and is invariant to the GT frame's rotation).
+//
+// Beside these, gauge-free relative errors over every pair (i, j) of common images, which no
+// alignment enters (a Sim(3) fit on nearly collinear centres, a strip or a street, can tilt
+// every aligned rotation and so misreport them):
+//   relative rotation error (deg)  = angle(R_j R_i^T, R*_j R*_i^T),
+//   translation direction error (deg) = angle between R_i (C_j - C_i) and R*_i (C*_j - C*_i),
+// the direction of camera j's centre seen from camera i (the relative translation's
+// direction, scale-free).
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -47,7 +55,15 @@ struct GroundTruthErrors {
   std::vector<double> center_err_rel;
   double rot_err_deg_median = 0.0, rot_err_deg_max = 0.0;
   double center_err_rel_median = 0.0, center_err_rel_max = 0.0;
+  // Gauge-free errors over all pairs of common images (0 pairs for fewer than 2 images).
+  size_t num_pairs = 0;
+  double rel_rot_err_deg_median = 0.0, rel_rot_err_deg_max = 0.0;
+  double rel_dir_err_deg_median = 0.0, rel_dir_err_deg_max = 0.0;
 };
+
+// The relative errors of GroundTruthErrors between two pose lists of the same images (same
+// order): median and max over all pairs. Fills num_pairs and the rel_* fields of `out`.
+void RelativePoseErrors(const std::vector<Pose>& est, const std::vector<Pose>& truth, GroundTruthErrors* out);
 
 // Largest distance between two camera centres of `rec` (0 for fewer than two images).
 double SceneExtent(const Reconstruction& rec);

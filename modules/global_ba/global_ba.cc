@@ -11,6 +11,7 @@
 
 #include "modules/global_ba/gcp_residual.h"
 #include "modules/global_ba/gcp_terms.h"
+#include "modules/global_ba/motion_normal_equations.h"
 #include "modules/global_ba/motion_residual.h"
 #include "modules/global_ba/motion_selection.h"
 #include "modules/global_ba/motion_similarity.h"
@@ -197,6 +198,83 @@ ceres::Solver::Summary SolveRound(const GlobalBAOptions& options, double sigma, 
   return s;
 }
 
+// The costs of one round, whichever solver ran it.
+struct RoundSummary {
+  bool failed = false;
+  std::string message;
+  double initial_cost = 0.0, final_cost = 0.0;
+  int iterations = 0;
+};
+
+// Whether a round can run on the motion-block normal equations (motion_normal_equations.h):
+// no robust loss on the motions, no GCP residuals, the gauge held by a pose and a scale.
+bool BlockSolverApplies(const GlobalBAOptions& options, double sigma, const Unknowns& u) {
+  return !(options.huber_factor > 0 && sigma > 0) && u.gcp_terms.empty() && !u.gcp_gauge &&
+         options.gauge == GaugeFixing::kFixPoseAndScale;
+}
+
+RoundSummary SolveRoundByBlocks(const GlobalBAOptions& options, int round, bool report_start, Unknowns* u,
+                                GlobalBASummary* summary, const GlobalBAIterationCallback& callback) {
+  MotionBlockProblem problem;
+  std::map<uint32_t, int> index;
+  for (auto& [id, block] : u->poses) {
+    index[id] = static_cast<int>(problem.poses.size());
+    problem.poses.push_back(&block);
+  }
+  std::vector<std::unique_ptr<MotionResidual>> residuals;
+  std::vector<Eigen::MatrixXd> scalar_h;
+  scalar_h.reserve(u->terms.size());  // stable addresses
+  for (MotionTerm& t : u->terms) {
+    residuals.emplace_back(MakeResidual(*u, t));
+    MotionBlockTerm term;
+    term.residual = residuals.back().get();
+    // W^T W: the local Hessian itself for the pointless BA (W = D V), formed for Aver_BA.
+    if (options.weighting == TripletWeighting::kHessian) {
+      term.h = &t.hessian->h;
+    } else {
+      scalar_h.push_back(t.W.transpose() * t.W);
+      term.h = &scalar_h.back();
+    }
+    for (const uint32_t id : t.hessian->image_ids) term.poses.push_back(index.at(id));
+    term.sim = t.sim.x.data();
+    term.weight = t.irls_weight;
+    problem.terms.push_back(std::move(term));
+  }
+  const MotionTerm& ref = u->terms[ReferenceTerm(*u)];
+  const uint32_t a = ref.hessian->image_ids[0], b = ref.hessian->image_ids[1];
+  problem.fixed_pose = index.at(a);
+  problem.scale_pose = index.at(b);
+  (u->poses.at(b).x.head<3>() - u->poses.at(a).x.head<3>()).cwiseAbs().maxCoeff(&problem.scale_coord);
+
+  MotionBlockSolverOptions so;
+  so.max_iterations = options.max_iterations_per_round;
+  so.function_tolerance = options.function_tolerance;
+  so.parameter_tolerance = options.parameter_tolerance;
+  const MotionBlockCallback report = [&](int iteration, double cost) {
+    if (iteration == 0 && (round > 0 || !report_start)) return;
+    if (iteration > 0) ++summary->iterations;
+    summary->cost_per_iteration.push_back(cost);
+    if (callback) {
+      const std::map<uint32_t, Pose> poses = CurrentPoses(*u);
+      GlobalBAIteration it;
+      it.iteration = summary->iterations;
+      it.round = round;
+      it.cost = cost;
+      it.poses = &poses;
+      callback(it);
+    }
+  };
+  const MotionBlockSummary s = SolveMotionBlocks(problem, so, report);
+  return {!s.usable, s.message, s.initial_cost, s.final_cost, s.iterations};
+}
+
+RoundSummary SolveRoundByCeres(const GlobalBAOptions& options, double sigma, int round, bool report_start,
+                               Unknowns* u, GlobalBASummary* summary, const GlobalBAIterationCallback& callback) {
+  const ceres::Solver::Summary s = SolveRound(options, sigma, round, report_start, u, summary, callback);
+  return {s.termination_type == ceres::FAILURE, s.message, s.initial_cost, s.final_cost,
+          static_cast<int>(s.iterations.size()) - 1};
+}
+
 GlobalBAResult RunGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const std::vector<LocalMotion>& motions,
                            const std::vector<LocalHessian>& hessians, const GlobalBAOptions& options,
                            const GlobalBAIterationCallback& callback, const GcpInput* gcps,
@@ -251,15 +329,17 @@ GlobalBAResult RunGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const 
 
   for (int round = 0; round < std::max(1, options.max_rounds); ++round) {
     const double sigma = Reweight(&u, options);
-    const ceres::Solver::Summary s = SolveRound(options, sigma, round, report_start, &u, &summary, callback);
+    const RoundSummary s = BlockSolverApplies(options, sigma, u)
+                               ? SolveRoundByBlocks(options, round, report_start, &u, &summary, callback)
+                               : SolveRoundByCeres(options, sigma, round, report_start, &u, &summary, callback);
     if (round == 0) summary.initial_cost = s.initial_cost;
     summary.final_cost = s.final_cost;
     summary.rounds = round + 1;
     for (auto& [id, block] : u.poses) block.Relinearize();
     for (MotionTerm& t : u.terms) t.sim.Relinearize();
     PGBA_LOG_DEBUG << "global BA round " << round << ": sigma " << sigma << ", cost " << s.initial_cost << " -> "
-                   << s.final_cost << " in " << s.iterations.size() - 1 << " iterations";
-    if (s.termination_type == ceres::FAILURE) throw InputError("global BA: solver failure: " + s.message);
+                   << s.final_cost << " in " << s.iterations << " iterations";
+    if (s.failed) throw InputError("global BA: solver failure: " + s.message);
     const double decrease = s.initial_cost > 0 ? (s.initial_cost - s.final_cost) / s.initial_cost : 0.0;
     if (round > 0 && decrease < options.round_tolerance) break;
   }
@@ -321,11 +401,140 @@ GlobalBAResult PointlessGlobalBA(const std::map<uint32_t, Pose>& initial_poses, 
   return RunGlobalBA(initial_poses, motions, hessians, options, callback, gcps);
 }
 
+namespace {
+
+// The local Hessians of `motions` re-taken where `result` puts them (points re-triangulated,
+// no local iteration). Only the motions `result` used; `frames[i]` / `models[i]` are replaced
+// for those whose Hessian is ok, and their indices returned.
+std::vector<int> RelinearizeAt(const Reconstruction& tracks, const LocalHessianOptions& at_solution,
+                               const ObservationShares* shares, const std::vector<LocalMotion>& motions,
+                               const GlobalBAResult& result, std::vector<LocalMotion>* frames,
+                               std::vector<LocalHessian>* models) {
+  std::vector<LocalMotion> predicted;
+  std::vector<int> index;
+  for (size_t i = 0; i < motions.size(); ++i) {
+    if (!(result.irls_weights[i] > 0)) continue;  // not used
+    LocalMotion t = motions[i];
+    t.global_to_local = result.similarities[i];
+    for (int v = 0; v < t.num_views(); ++v) t.local_poses[v] = t.global_to_local.Apply(result.poses.at(t.image_ids[v]));
+    predicted.push_back(std::move(t));
+    index.push_back(static_cast<int>(i));
+  }
+  LocalHessianResult lr = ComputeLocalHessians(tracks, predicted, at_solution, shares);
+  std::vector<int> relinearized;
+  for (size_t j = 0; j < index.size(); ++j) {
+    if (lr.hessians[j].status != LocalHessianStatus::kOk) continue;  // keeps its previous model
+    (*models)[index[j]] = std::move(lr.hessians[j]);
+    (*models)[index[j]].motion_index = index[j];
+    (*frames)[index[j]] = std::move(predicted[j]);
+    relinearized.push_back(index[j]);
+  }
+  return relinearized;
+}
+
+double TotalRobustCost(const std::vector<LocalHessian>& models, const GlobalBAResult& used) {
+  double c = 0.0;
+  for (size_t i = 0; i < models.size(); ++i)
+    if (used.irls_weights[i] > 0) c += models[i].robust_cost;
+  return c;
+}
+
+// A re-linearised solve from `poses`, its iterations counted on after those in `total` (the
+// callback sees one continuous count) and added to it.
+GlobalBAResult SolveAgain(const std::map<uint32_t, Pose>& poses, const std::vector<LocalMotion>& frames,
+                          const std::vector<LocalHessian>& models, const GlobalBAOptions& options,
+                          const GlobalBAIterationCallback& callback, const GcpInput* gcps, GlobalBASummary* total) {
+  const int offset = total->iterations;
+  GlobalBAIterationCallback shifted;
+  if (callback)
+    shifted = [&callback, offset](const GlobalBAIteration& it) {
+      GlobalBAIteration c = it;
+      c.iteration += offset;
+      callback(c);
+    };
+  GlobalBAResult result = RunGlobalBA(poses, frames, models, options, shifted, gcps, /*report_start=*/false);
+  const GlobalBASummary& s = result.summary;
+  total->iterations += s.iterations;
+  total->rounds += s.rounds;
+  total->cost_per_iteration.insert(total->cost_per_iteration.end(), s.cost_per_iteration.begin(),
+                                   s.cost_per_iteration.end());
+  return result;
+}
+
+// GlobalBAOptions::relinearize_checked: Gauss-Newton over re-linearisation passes, each step
+// kept only if the true robust cost falls.
+GlobalBAResult CheckedRelinearization(const Reconstruction& tracks, const LocalHessianOptions& lh_options,
+                                      const std::map<uint32_t, Pose>& initial_poses,
+                                      const std::vector<LocalMotion>& motions,
+                                      const std::vector<LocalHessian>& hessians, const GlobalBAOptions& options,
+                                      const GlobalBAIterationCallback& callback, const GcpInput* gcps) {
+  Timer timer;
+  GlobalBAOptions pointless = options;
+  pointless.weighting = TripletWeighting::kHessian;
+  LocalHessianOptions at_solution = lh_options;
+  at_solution.max_iterations = 0;
+  ObservationShares shares;
+  if (at_solution.shared_observation_weighting) shares = CountObservationShares(tracks, motions);
+
+  std::vector<LocalHessian> models = hessians;
+  std::vector<LocalMotion> frames = motions;
+  GlobalBAResult trial = RunGlobalBA(initial_poses, frames, models, pointless, callback, gcps);
+  GlobalBASummary total = trial.summary;
+  // The kept state: the initial poses (cost of the models taken there), then each kept step.
+  GlobalBAResult kept = trial;
+  for (auto& [id, pose] : kept.poses) pose = initial_poses.at(id);
+  double cost = TotalRobustCost(models, trial);
+  for (int k = 1; k <= options.max_relinearizations; ++k) {
+    Timer pass;
+    std::vector<LocalHessian> trial_models = models;
+    std::vector<LocalMotion> trial_frames = frames;
+    const std::vector<int> relinearized =
+        RelinearizeAt(tracks, at_solution, &shares, motions, trial, &trial_frames, &trial_models);
+    total.relinearization_seconds += pass.Seconds();
+    const double trial_cost = TotalRobustCost(trial_models, trial);
+    PGBA_LOG_INFO << "global BA re-linearisation " << k << ": robust cost " << cost << " -> " << trial_cost
+                  << (trial_cost < cost ? " (step kept)" : " (step refused: stopping at the last kept step)");
+    // An unknown starting cost (local Hessians read from an older workspace file): the first
+    // step is taken unchecked.
+    const bool unknown = !std::isfinite(cost);
+    if (!unknown && !(trial_cost < cost)) break;
+    const double decrease = unknown ? 1.0 : (cost - trial_cost) / cost;
+    // How far the step moved from the models it was solved with, in noise sigmas.
+    total.relinearization_displacement = Displacement(trial, models, relinearized, pointless);
+    models = std::move(trial_models);
+    frames = std::move(trial_frames);
+    cost = trial_cost;
+    kept = trial;
+    total.relinearizations = k;
+    if (decrease < options.relinearize_cost_tolerance ||
+        total.relinearization_displacement < options.relinearize_tolerance)
+      break;
+    trial = SolveAgain(kept.poses, frames, models, pointless, callback, gcps, &total);
+    // The last solve is taken as it is: its own check would cost one more pass, and it starts
+    // from models that a kept step just produced (the same as the unchecked re-linearisation).
+    if (k == options.max_relinearizations) kept = trial;
+  }
+  if (total.relinearizations == 0)
+    PGBA_LOG_WARN << "global BA: the re-linearised first step raised the robust reprojection cost; the initial poses "
+                     "are kept";
+  total.final_cost = kept.summary.final_cost;
+  total.robust_scale = kept.summary.robust_scale;
+  total.num_triplets_downweighted = kept.summary.num_triplets_downweighted;
+  total.misfit_ratio = kept.summary.misfit_ratio;
+  total.seconds = timer.Seconds();
+  kept.summary = total;
+  return kept;
+}
+
+}  // namespace
+
 GlobalBAResult RelinearizedGlobalBA(const Reconstruction& tracks, const LocalHessianOptions& lh_options,
                                     const std::map<uint32_t, Pose>& initial_poses,
                                     const std::vector<LocalMotion>& motions, const std::vector<LocalHessian>& hessians,
                                     const GlobalBAOptions& options, const GlobalBAIterationCallback& callback,
                                     const GcpInput* gcps) {
+  if (options.relinearize_checked)
+    return CheckedRelinearization(tracks, lh_options, initial_poses, motions, hessians, options, callback, gcps);
   Timer timer;
   GlobalBAOptions pointless = options;
   pointless.weighting = TripletWeighting::kHessian;
@@ -345,48 +554,18 @@ GlobalBAResult RelinearizedGlobalBA(const Reconstruction& tracks, const LocalHes
     std::vector<LocalMotion> frames = motions;
     for (int k = 1; k <= options.max_relinearizations; ++k) {
       Timer pass;
-      std::vector<LocalMotion> predicted;
-      std::vector<int> index;
-      for (size_t i = 0; i < motions.size(); ++i) {
-        if (!(result.irls_weights[i] > 0)) continue;  // not used
-        LocalMotion t = motions[i];
-        t.global_to_local = result.similarities[i];
-        for (int v = 0; v < t.num_views(); ++v)
-          t.local_poses[v] = t.global_to_local.Apply(result.poses.at(t.image_ids[v]));
-        predicted.push_back(std::move(t));
-        index.push_back(static_cast<int>(i));
-      }
-      LocalHessianResult lr = ComputeLocalHessians(tracks, predicted, at_solution, &shares);
-      std::vector<int> relinearized;
-      for (size_t j = 0; j < index.size(); ++j) {
-        if (lr.hessians[j].status != LocalHessianStatus::kOk) continue;  // keeps its previous model
-        current[index[j]] = std::move(lr.hessians[j]);
-        current[index[j]].motion_index = index[j];
-        frames[index[j]] = std::move(predicted[j]);
-        relinearized.push_back(index[j]);
-      }
+      const std::vector<int> relinearized =
+          RelinearizeAt(tracks, at_solution, &shares, motions, result, &frames, &current);
       total.relinearization_seconds += pass.Seconds();
-      const int offset = total.iterations;
-      GlobalBAIterationCallback shifted;
-      if (callback)
-        shifted = [&callback, offset](const GlobalBAIteration& it) {
-          GlobalBAIteration c = it;
-          c.iteration += offset;
-          callback(c);
-        };
-      result = RunGlobalBA(result.poses, frames, current, pointless, shifted, gcps, /*report_start=*/false);
+      result = SolveAgain(result.poses, frames, current, pointless, callback, gcps, &total);
       const GlobalBASummary& s = result.summary;
-      total.iterations += s.iterations;
-      total.rounds += s.rounds;
-      total.cost_per_iteration.insert(total.cost_per_iteration.end(), s.cost_per_iteration.begin(),
-                                      s.cost_per_iteration.end());
       total.final_cost = s.final_cost;
       total.robust_scale = s.robust_scale;
       total.num_triplets_downweighted = s.num_triplets_downweighted;
       total.misfit_ratio = s.misfit_ratio;
       total.relinearizations = k;
       total.relinearization_displacement = Displacement(result, current, relinearized, pointless);
-      PGBA_LOG_INFO << "global BA re-linearisation " << k << ": " << relinearized.size() << " of " << index.size()
+      PGBA_LOG_INFO << "global BA re-linearisation " << k << ": " << relinearized.size()
                     << " local hessians at the solution, moved " << total.relinearization_displacement
                     << " noise sigmas from them, misfit " << total.misfit_ratio;
       if (total.relinearization_displacement < options.relinearize_tolerance) break;

@@ -107,12 +107,23 @@ struct GlobalBAOptions {
   // Stop when the solution moved from the linearisation points by less than this many noise
   // sigmas (median over triplets of |W_s (x_s - x_lin)| / (unit_s sigma_s)).
   double relinearize_tolerance = 0.5;
+  // Checked re-linearisation: every pass runs (no misfit trigger), and each solve but the last
+  // (which would need one more pass) is kept only if the true robust reprojection cost at it (points re-triangulated:
+  // LocalHessian::robust_cost) is lower than at the last kept poses; a step that raises it
+  // ends the passes at the last kept poses (the initial ones if the first step is refused).
+  // For models taken away from the solution (whole-track motions at the initial poses), where
+  // the global BA is Gauss-Newton on the point-based cost with the points eliminated. Stops
+  // on relinearize_tolerance, or when a kept step lowers the cost by less than
+  // relinearize_cost_tolerance (relative).
+  bool relinearize_checked = false;
+  double relinearize_cost_tolerance = 1e-4;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(GlobalBAOptions, weighting, gauge, similarity_init, max_rounds,
                                                 max_iterations_per_round, round_tolerance, function_tolerance,
                                                 parameter_tolerance, irls_factor, huber_factor,
                                                 scalar_rotation_sigma, scalar_position_sigma, num_threads,
-                                                max_relinearizations, relinearize_misfit, relinearize_tolerance)
+                                                max_relinearizations, relinearize_misfit, relinearize_tolerance,
+                                                relinearize_checked, relinearize_cost_tolerance)
 
 // State handed to the iteration callback after every Levenberg-Marquardt iteration (and
 // once before the first, iteration 0): e.g. to evaluate sigma for a convergence curve.

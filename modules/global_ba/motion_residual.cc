@@ -31,30 +31,41 @@ Eigen::VectorXd MotionResidual::Evaluate(const std::vector<const double*>& poses
   return W_ * Deviation(poses, sim) - offset_;
 }
 
-bool MotionResidual::Evaluate(double const* const* parameters, double* residuals, double** jacobians) const {
+void MotionResidual::Linearize(const std::vector<const double*>& poses, const double* sim, Eigen::VectorXd* dx,
+                               std::vector<Eigen::Matrix<double, 6, kVars>>* J) const {
   const int n = num_views();
-  const double* sim = parameters[n];
-  Eigen::Map<Eigen::VectorXd> r(residuals, 6 * n);
-  if (!jacobians) {
-    r = Evaluate(std::vector<const double*>(parameters, parameters + n), sim);
-    return true;
-  }
-  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  Eigen::VectorXd dx(6 * n);
-  Eigen::Matrix<double, Eigen::Dynamic, 7> J_sim = Eigen::Matrix<double, Eigen::Dynamic, 7>::Zero(6 * n, 7);
+  dx->resize(6 * n);
+  J->resize(n);
   Jet13 pose[6], s[7], d[6];
   for (int i = 0; i < 7; ++i) s[i] = Jet13(sim[i], 6 + i);
   for (int k = 0; k < n; ++k) {
-    for (int i = 0; i < 6; ++i) pose[i] = Jet13(parameters[k][i], i);
+    for (int i = 0; i < 6; ++i) pose[i] = Jet13(poses[k][i], i);
     views_[k](pose, s, d);
-    Eigen::Matrix<double, 6, kVars> J;
     for (int i = 0; i < 6; ++i) {
-      dx(6 * k + i) = d[i].a;
-      J.row(i) = d[i].v.transpose();
+      (*dx)(6 * k + i) = d[i].a;
+      (*J)[k].row(i) = d[i].v.transpose();
     }
+  }
+}
+
+bool MotionResidual::Evaluate(double const* const* parameters, double* residuals, double** jacobians) const {
+  const int n = num_views();
+  const double* sim = parameters[n];
+  const std::vector<const double*> poses(parameters, parameters + n);
+  Eigen::Map<Eigen::VectorXd> r(residuals, 6 * n);
+  if (!jacobians) {
+    r = Evaluate(poses, sim);
+    return true;
+  }
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  Eigen::VectorXd dx;
+  std::vector<Eigen::Matrix<double, 6, kVars>> J;
+  Linearize(poses, sim, &dx, &J);
+  Eigen::Matrix<double, Eigen::Dynamic, 7> J_sim = Eigen::Matrix<double, Eigen::Dynamic, 7>::Zero(6 * n, 7);
+  for (int k = 0; k < n; ++k) {
     const auto W_k = W_.middleCols<6>(6 * k);  // the columns of W that view k's deviation meets
-    if (jacobians[k]) Eigen::Map<RowMajor>(jacobians[k], 6 * n, 6) = W_k * J.leftCols<6>();
-    J_sim.noalias() += W_k * J.rightCols<7>();
+    if (jacobians[k]) Eigen::Map<RowMajor>(jacobians[k], 6 * n, 6) = W_k * J[k].leftCols<6>();
+    J_sim.noalias() += W_k * J[k].rightCols<7>();
   }
   r = W_ * dx - offset_;
   if (jacobians[n]) Eigen::Map<RowMajor>(jacobians[n], 6 * n, 7) = J_sim;

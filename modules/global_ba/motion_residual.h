@@ -71,6 +71,13 @@ class MotionResidual : public ceres::CostFunction {
   // x_s - x0_s (before the weight matrix), for tests of the chart.
   Eigen::VectorXd Deviation(const std::vector<const double*>& poses, const double* sim) const;
 
+  // The deviation x_s - x0_s and its Jacobian, view by view: J[k] = d dx_k / d(pose_k, sim),
+  // 6 x 13 (pose block first). The weighted residual is W dx - offset.
+  void Linearize(const std::vector<const double*>& poses, const double* sim, Eigen::VectorXd* dx,
+                 std::vector<Eigen::Matrix<double, 6, 13>>* J) const;
+  const Eigen::MatrixXd& W() const { return W_; }
+  const Eigen::VectorXd& offset() const { return offset_; }
+
  private:
   std::vector<ViewDeviation> views_;
   Eigen::MatrixXd W_;

@@ -56,6 +56,7 @@ LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const L
                                            const ObservationShares* shares) {
   *problem = LocalBundleProblem();
   problem->huber_px = options.huber_px;
+  problem->max_reprojection_px = options.max_reprojection_px;
   const int n = motion.num_views();
   if (n < 2 || static_cast<int>(motion.local_poses.size()) != n) return LocalHessianStatus::kInvalidInput;
   std::vector<const Image*> images(n);
@@ -102,6 +103,7 @@ LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const L
       view_of.push_back(k);
     }
     if (views.size() < 2) continue;
+    problem->num_candidate_observations += static_cast<int>(views.size());
     const TriangulatedPoint X = TriangulateTrack(views, tri);
     if (!X.ok) continue;
     // Keep the observations consistent with the point; a point needs two of them.
@@ -183,6 +185,22 @@ double MedianDepth(const LocalBundleProblem& p) {
   if (depth.empty()) return 1.0;
   std::nth_element(depth.begin(), depth.begin() + depth.size() / 2, depth.end());
   return depth[depth.size() / 2];
+}
+
+double RobustCost(const LocalBundleProblem& p) {
+  const auto huber = [&p](double e2) {
+    const double e = std::sqrt(e2);
+    return e <= p.huber_px ? e2 : 2.0 * p.huber_px * e - p.huber_px * p.huber_px;
+  };
+  double cost = 0.0;
+  for (const LocalObservation& o : p.observations) {
+    const ReprojectionError e(p.cameras[o.view], p.poses[o.view].R0, o.pixel);
+    double r[2];
+    e(p.poses[o.view].x.data(), p.points[o.point].data(), r);
+    cost += huber(std::min(r[0] * r[0] + r[1] * r[1], p.max_reprojection_px * p.max_reprojection_px));
+  }
+  const int dropped = std::max(0, p.num_candidate_observations - static_cast<int>(p.observations.size()));
+  return cost + dropped * huber(p.max_reprojection_px * p.max_reprojection_px);
 }
 
 double RmsReprojectionPx(const LocalBundleProblem& p) {

@@ -33,9 +33,19 @@ struct LocalBundleProblem {
   // centred at the input poses (empty: none).
   Eigen::MatrixXd prior;
   Eigen::VectorXd prior_center;
+  // Observations of the motion's tracks in its views before the gross-outlier filter (those
+  // of tracks that failed to triangulate included): the denominator of RobustCost.
+  int num_candidate_observations = 0;
+  double max_reprojection_px = 4.0;
 
   int num_views() const { return static_cast<int>(poses.size()); }
 };
+
+// The motion's robust reprojection cost at its current poses and points: Huber (huber_px) of
+// every kept observation's pixel error, and the Huber cost of max_reprojection_px for every
+// candidate observation the filter dropped, so that costs at different poses compare over the
+// same observations (the damped re-linearisation of the global BA accepts a step by it).
+double RobustCost(const LocalBundleProblem& problem);
 
 // gamma / M with gamma = M Q / (M + Q) (paper, implementation details); 1 for Q <= 0 or inf.
 double AttenuationWeight(int num_points, double q);

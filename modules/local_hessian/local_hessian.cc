@@ -66,6 +66,7 @@ LocalHessian ComputeLocalHessian(const Reconstruction& tracks, const LocalMotion
   }
   for (int k = 0; k < problem.num_views(); ++k) out.local_poses[k] = problem.poses[k].ToPose();
   out.rms_px = RmsReprojectionPx(problem);
+  out.robust_cost = RobustCost(problem);
   out.depth_scale = MedianDepth(problem);
 
   const ReducedCameraSystem reduced = ReducedCameraMatrix(problem);  // paper eq. 3
@@ -79,16 +80,26 @@ LocalHessian ComputeLocalHessian(const Reconstruction& tracks, const LocalMotion
   if (options.prior_placement == PriorPlacement::kLocalBAAndHessian) prior.P = problem.prior;  // the one it used
   out.prior = prior.P;
   out.prior_mu = prior.mu;
-  if (!(prior.eigenvalue_ratio >= options.min_eigenvalue_ratio) || !(prior.mu > 0)) {
+  // min_eigenvalue_ratio <= 0 disables the rank test (whole-track motions: a direction of h
+  // that no track of the motion sees is seen by the other motions).
+  const bool rank_ok = !(options.min_eigenvalue_ratio > 0) || prior.eigenvalue_ratio >= options.min_eigenvalue_ratio;
+  if (!rank_ok || !(prior.mu > 0)) {
     out.status = LocalHessianStatus::kIllConditioned;
     return out;
   }
   out.h = reduced.h + prior.P;
-  DecomposeReducedMatrix(out.h, &out.V, &out.D);  // paper eq. 5
   // Minimiser of the quadratic of paper eq. 3, delta^T h delta / 2 + g^T delta (Ceres'
   // 1/2 |r|^2 convention): -h^-1 g. g is orthogonal to the similarity directions (the cost
-  // is invariant under them), so the prior on those directions does not bias the step.
-  out.newton_step = -out.h.ldlt().solve(out.reduced_gradient);
+  // is invariant under them), so the prior on those directions does not bias the step. As a
+  // pseudo-inverse: a whole-track motion may leave a view's direction unseen (a view few of
+  // its tracks reach; the other motions see it), and that direction then takes no step
+  // rather than an unbounded one (LDLT: a zero pivot gives a zero component).
+  if (options.factor == HessianFactor::kLdlt) {
+    out.newton_step = -FactorReducedMatrixLdlt(out.h, &out.V, &out.D).solve(out.reduced_gradient);
+  } else {
+    DecomposeReducedMatrix(out.h, &out.V, &out.D);  // paper eq. 5
+    out.newton_step = -PseudoInverseSolve(out.V, out.D, out.reduced_gradient);
+  }
   if (!out.V.allFinite() || !out.D.allFinite() || !out.newton_step.allFinite()) {
     out.status = LocalHessianStatus::kNonFinite;
     return out;

@@ -59,6 +59,16 @@ enum class PriorShape {
 };
 NLOHMANN_JSON_SERIALIZE_ENUM(PriorShape, {{PriorShape::kIsotropic, "isotropic"}, {PriorShape::kSimilarity, "similarity"}})
 
+// How h is factored into the weight W = diag(D) V of the global residual (W^T W = h).
+enum class HessianFactor {
+  // Eigen decomposition, rows of V orthonormal eigenvectors (paper eq. 5): ~9 (6N)^3 flops.
+  kEigen,
+  // Pivoted LDL^T, h = P^T L diag(d) L^T P: V = L^T P, D = sqrt(d), (6N)^3 / 3 flops; the same
+  // W^T W, so the same residual norm (large whole-track motions, N up to 30-40 views).
+  kLdlt,
+};
+NLOHMANN_JSON_SERIALIZE_ENUM(HessianFactor, {{HessianFactor::kEigen, "eigen"}, {HessianFactor::kLdlt, "ldlt"}})
+
 // Number of motions that use each observation (image id, track id).
 using ObservationShares = std::map<std::pair<uint32_t, uint64_t>, int>;
 
@@ -93,8 +103,10 @@ struct LocalHessianOptions {
   // Rank test: in the scale-aware chart, the (6N - 7)-th largest eigenvalue of h before the
   // prior (the weakest direction that is not a similarity of the local frame; the 11th of a
   // triplet) must be at least this fraction of the largest, or the motion is rejected as
-  // ill-conditioned.
+  // ill-conditioned. <= 0: no rank test (the eigenvalues are then not computed: the
+  // prior's largest eigenvalue comes from power iterations).
   double min_eigenvalue_ratio = 1e-10;
+  HessianFactor factor = HessianFactor::kEigen;
   // Minimum triangulation angle of a triplet point (degrees); 0 keeps every point.
   double min_triangulation_angle_deg = 0.0;
   // TBB threads over triplets; 0 = all available.
@@ -108,7 +120,8 @@ struct LocalHessianOptions {
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(LocalHessianOptions, max_iterations, attenuation_q, huber_px,
                                                 max_reprojection_px, min_points, prior_shape, prior_relative,
                                                 prior_scale_aware, prior_placement, min_eigenvalue_ratio,
-                                                min_triangulation_angle_deg, num_threads, shared_observation_weighting)
+                                                min_triangulation_angle_deg, num_threads, shared_observation_weighting,
+                                                factor)
 
 enum class LocalHessianStatus {
   kOk = 0,
@@ -129,8 +142,9 @@ struct LocalHessian {
   std::vector<Pose> local_poses;
   // Camera reduced matrix including the gauge prior: h = h_points + prior (6N x 6N).
   Eigen::MatrixXd h;
-  // h = V^T diag(D)^2 V: rows of V are orthonormal eigenvectors, D the square roots of the
-  // eigenvalues (negative ones clamped to 0), ascending.
+  // h = V^T diag(D)^2 V (HessianFactor): with kEigen rows of V are orthonormal eigenvectors,
+  // D the square roots of the eigenvalues (negative ones clamped to 0), ascending; with kLdlt
+  // V = L^T P and D the square roots of the pivots.
   Eigen::MatrixXd V;
   Eigen::VectorXd D;
   // Reduced gradient g of paper eq. 3 at local_poses (same chart and weights as h).
@@ -148,12 +162,15 @@ struct LocalHessian {
   double observation_weight = 1.0;
   // Median point depth L in the local frame (the length of the scale-aware chart).
   double depth_scale = 1.0;
-  // Eigenvalue ratio of the rank test ((6N-7)-th largest / largest, scale-aware chart, no prior).
+  // Eigenvalue ratio of the rank test ((6N-7)-th largest / largest, scale-aware chart, no prior);
+  // 0 when the rank test is off (not computed).
   double eigenvalue_ratio = 0.0;
   int num_points = 0;
   int num_observations = 0;
   // Unweighted RMS reprojection error (pixels) after the local BA.
   double rms_px = 0.0;
+  // RobustCost (local_bundle.h) at local_poses: the motion's share of the point-based cost.
+  double robust_cost = 0.0;
 
   int num_views() const { return static_cast<int>(image_ids.size()); }
 };

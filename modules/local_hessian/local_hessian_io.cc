@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "modules/local_hessian/reduced_camera_matrix.h"
@@ -52,6 +53,7 @@ void WriteLocalHessians(const fs::path& path, const Reconstruction& tracks, cons
       e["num_points"] = lh.num_points;
       e["num_observations"] = lh.num_observations;
       e["rms_px"] = lh.rms_px;
+      e["robust_cost"] = lh.robust_cost;
       e["eigenvalue_ratio"] = lh.eigenvalue_ratio;
       e["newton_step"] = std::vector<double>(lh.newton_step.data(), lh.newton_step.data() + lh.newton_step.size());
     }
@@ -118,6 +120,10 @@ LocalHessianResult ReadLocalHessians(const fs::path& path, const Reconstruction&
       lh.num_points = static_cast<int>(reader.Integer(reader.Field(e, "num_points", where), where));
       lh.num_observations = static_cast<int>(reader.Integer(reader.Field(e, "num_observations", where), where));
       lh.rms_px = reader.Number(reader.Field(e, "rms_px", where), where);
+      // Optional (files written before it existed: unknown, so the first re-linearised step
+      // of a checked re-linearisation is taken unchecked).
+      lh.robust_cost = e.contains("robust_cost") ? reader.Number(e["robust_cost"], where + ".robust_cost")
+                                                 : std::numeric_limits<double>::quiet_NaN();
       lh.eigenvalue_ratio = reader.Number(reader.Field(e, "eigenvalue_ratio", where), where);
       // Optional (files written before it existed: 0, the paper's eq. 5 without gradient).
       lh.newton_step = e.contains("newton_step") ? reader.Numbers(e["newton_step"], dim, where + ".newton_step")

@@ -102,17 +102,30 @@ void ConvergeLocalMotions(const Reconstruction& tracks, const LocalHessianOption
 
 std::vector<LocalMotion> ChooseLocalMotions(const Reconstruction& tracks, const std::map<uint32_t, Pose>& poses,
                                             const std::vector<Triplet>& triplets, const LocalMotionOptions& options) {
-  return options.views <= 3 ? MotionsOfTriplets(triplets) : SelectLocalMotions(tracks, poses, options);
+  switch (options.kind) {
+    case MotionKind::kWholeTracks:
+      return SelectWholeTrackMotions(tracks, poses, {options.max_views, options.min_tracks});
+    case MotionKind::kTriplets:
+      return MotionsOfTriplets(triplets);
+    case MotionKind::kNeighbours:
+      return SelectLocalMotions(tracks, poses, options);
+  }
+  return {};
 }
 
 std::vector<LocalMotion> BuildLocalMotions(const Reconstruction& tracks, const std::map<uint32_t, Pose>& poses,
                                            const std::vector<Triplet>& triplets,
                                            const LocalHessianOptions& lh_options, const LocalMotionOptions& options) {
   std::vector<LocalMotion> motions = ChooseLocalMotions(tracks, poses, triplets, options);
-  if (options.views <= 3) return motions;
-  ConvergeLocalMotions(tracks, lh_options, options, &motions);
-  PGBA_LOG_INFO << "local motions: " << motions.size() << " motions of up to " << options.views << " views over "
-                << poses.size() << " images";
+  if (NeedsConvergedStart(options)) ConvergeLocalMotions(tracks, lh_options, options, &motions);
+  if (options.kind != MotionKind::kTriplets) {
+    size_t largest = 0, views = 0;
+    for (const LocalMotion& m : motions) largest = std::max<size_t>(largest, m.image_ids.size());
+    for (const LocalMotion& m : motions) views += m.image_ids.size();
+    PGBA_LOG_INFO << "local motions: " << motions.size() << " motions over " << poses.size() << " images ("
+                  << (motions.empty() ? 0.0 : static_cast<double>(views) / motions.size()) << " views on average, "
+                  << largest << " at most)";
+  }
   return motions;
 }
 

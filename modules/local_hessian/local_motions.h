@@ -23,16 +23,34 @@
 #include <vector>
 
 #include "modules/local_hessian/local_hessian.h"
+#include "modules/local_hessian/whole_track_motions.h"
 #include "pgba/geometry/pose.h"
 #include "pgba/scene/reconstruction.h"
 #include "pgba/scene/view_graph.h"
 
 namespace pgba {
 
+// Which relative motions model the block.
+enum class MotionKind {
+  // Each track whole in exactly one motion (whole_track_motions.h): the sum of the local
+  // Hessians is the point-based reduced camera system. The default.
+  kWholeTracks,
+  // The initialisation's triplets (the paper's method; configs/paper_triplets.json).
+  kTriplets,
+  // One motion of `views` views per image with its best-connected neighbours (above).
+  kNeighbours,
+};
+NLOHMANN_JSON_SERIALIZE_ENUM(MotionKind, {{MotionKind::kWholeTracks, "whole_tracks"},
+                                          {MotionKind::kTriplets, "triplets"},
+                                          {MotionKind::kNeighbours, "neighbours"}})
+
 struct LocalMotionOptions {
-  // Views per motion. 3: the initialisation's triplets (the paper). N > 3: one motion of N
-  // views per image, as above.
-  int views = 3;
+  MotionKind kind = MotionKind::kWholeTracks;
+  // kWholeTracks: the largest motion a track may grow, and the fewest tracks of a motion.
+  int max_views = 12;
+  int min_tracks = 30;
+  // kNeighbours: views per motion (> 3).
+  int views = 7;
   // A neighbour must share at least this many tracks with the motion's image.
   int min_shared_tracks = 30;
   // Levenberg-Marquardt iterations of each pass of the local BA that takes an N-view motion
@@ -43,10 +61,15 @@ struct LocalMotionOptions {
   // of the tracks, which catches the long tracks that a window of near neighbours cuts).
   std::vector<int> neighbour_strides = {1};
 };
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(LocalMotionOptions, views, min_shared_tracks, max_iterations,
-                                                neighbour_strides)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(LocalMotionOptions, kind, max_views, min_tracks, views,
+                                                min_shared_tracks, max_iterations, neighbour_strides)
 
-// The N-view motions (options.views > 3) over the images of `poses`, stride by stride:
+// Whether the motions' start must come from the triplets' pointless BA and be converged by
+// their own local BA (kNeighbours: local_motions.h above). Whole-track motions need neither:
+// their local Hessians are taken at the initial poses and re-linearised by the global BA.
+inline bool NeedsConvergedStart(const LocalMotionOptions& options) { return options.kind == MotionKind::kNeighbours; }
+
+// The N-view motions (kNeighbours, options.views > 3) over the images of `poses`, stride by stride:
 // image ids (the image first, then its chosen neighbours by decreasing shared tracks, ties by
 // id), local poses = the given poses, global_to_local = identity, and track_ids = the tracks
 // seen by at least two of the views. Motions with the same set of images are kept once, and
@@ -63,14 +86,14 @@ std::vector<LocalMotion> SelectLocalMotions(const Reconstruction& tracks, const 
 void ConvergeLocalMotions(const Reconstruction& tracks, const LocalHessianOptions& lh_options,
                           const LocalMotionOptions& options, std::vector<LocalMotion>* motions);
 
-// The motions the local Hessian stage models, before any local BA: the triplets as motions
-// (views <= 3), or SelectLocalMotions over `poses`. Which motions depends only on the
+// The motions the local Hessian stage models, before any local BA: by options.kind, the
+// whole-track motions over `poses`, the triplets as motions, or SelectLocalMotions over `poses`. Which motions depends only on the
 // images of `poses`, so a re-run from a workspace (`reconstruct --workspace`) finds the same
 // ones from its initial poses.
 std::vector<LocalMotion> ChooseLocalMotions(const Reconstruction& tracks, const std::map<uint32_t, Pose>& poses,
                                             const std::vector<Triplet>& triplets, const LocalMotionOptions& options);
 
-// ChooseLocalMotions, the N-view ones then converged from `poses` (ConvergeLocalMotions).
+// ChooseLocalMotions, the kNeighbours ones then converged from `poses` (ConvergeLocalMotions).
 std::vector<LocalMotion> BuildLocalMotions(const Reconstruction& tracks, const std::map<uint32_t, Pose>& poses,
                                            const std::vector<Triplet>& triplets,
                                            const LocalHessianOptions& lh_options, const LocalMotionOptions& options);

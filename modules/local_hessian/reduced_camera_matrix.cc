@@ -44,6 +44,23 @@ bool PseudoInverse3(const Eigen::Matrix3d& A, Eigen::Matrix3d* inv) {
   return true;
 }
 
+// Largest eigenvalue of a symmetric PSD matrix by power iterations from a fixed start (to
+// ~1e-3 relative: mu is a small multiple of it), O(n^2) per iteration.
+double LargestEigenvalue(const Eigen::MatrixXd& A) {
+  Eigen::VectorXd v = Eigen::VectorXd::Ones(A.rows()).normalized();
+  double lambda = 0.0;
+  for (int i = 0; i < 50; ++i) {
+    const Eigen::VectorXd w = A * v;
+    const double next = v.dot(w);
+    const double norm = w.norm();
+    if (!(norm > 0)) return 0.0;
+    v = w / norm;
+    if (i > 5 && std::abs(next - lambda) <= 1e-4 * std::abs(next)) return next;
+    lambda = next;
+  }
+  return lambda;
+}
+
 }  // namespace
 
 ReducedCameraSystem ReducedCameraMatrix(const LocalBundleProblem& p) {
@@ -123,13 +140,18 @@ GaugePrior ComputeGaugePrior(const Eigen::MatrixXd& h, const std::vector<PoseBlo
   Eigen::VectorXd s(n);  // [c, omega] = diag(s) [c / L, omega]
   for (int k = 0; k < n / 6; ++k) s.segment<6>(6 * k) << L, L, L, 1.0, 1.0, 1.0;
   const Eigen::MatrixXd hs = s.asDiagonal() * h * s.asDiagonal();
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(hs, Eigen::EigenvaluesOnly);
-  if (es.info() != Eigen::Success) return prior;
-  const Eigen::VectorXd ev = es.eigenvalues();  // ascending
-  const double lmax = ev(n - 1);
+  double lmax = 0.0;
+  if (options.min_eigenvalue_ratio > 0) {
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(hs, Eigen::EigenvaluesOnly);
+    if (es.info() != Eigen::Success) return prior;
+    const Eigen::VectorXd ev = es.eigenvalues();  // ascending
+    lmax = ev(n - 1);
+    // 6N - 7 directions are not similarities of the local frame; the weakest is ev(7).
+    if (lmax > 0) prior.eigenvalue_ratio = ev(kGaugeDimension) / lmax;
+  } else {
+    lmax = LargestEigenvalue(hs);  // no rank test: the largest eigenvalue is all mu needs
+  }
   if (!(lmax > 0) || !std::isfinite(lmax)) return prior;
-  // 6N - 7 directions are not similarities of the local frame; the weakest is ev(7).
-  prior.eigenvalue_ratio = ev(kGaugeDimension) / lmax;
   prior.mu = options.prior_relative * lmax;
   Eigen::MatrixXd Ps;  // in the scaled chart
   if (options.prior_shape == PriorShape::kIsotropic) {
@@ -148,6 +170,22 @@ void DecomposeReducedMatrix(const Eigen::MatrixXd& h, Eigen::MatrixXd* V, Eigen:
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(h);
   *V = es.eigenvectors().transpose();
   *D = es.eigenvalues().cwiseMax(0.0).cwiseSqrt();
+}
+
+Eigen::LDLT<Eigen::MatrixXd> FactorReducedMatrixLdlt(const Eigen::MatrixXd& h, Eigen::MatrixXd* V, Eigen::VectorXd* D) {
+  Eigen::LDLT<Eigen::MatrixXd> ldlt(h);
+  const Eigen::MatrixXd Lt = ldlt.matrixU();  // L^T
+  *V = Lt * ldlt.transpositionsP().transpose();  // L^T P (Eigen: h = P^T L D L^T P)
+  *D = ldlt.vectorD().cwiseMax(0.0).cwiseSqrt();
+  return ldlt;
+}
+
+Eigen::VectorXd PseudoInverseSolve(const Eigen::MatrixXd& V, const Eigen::VectorXd& D, const Eigen::VectorXd& b) {
+  const Eigen::VectorXd lambda = D.cwiseAbs2();
+  const double floor = 1e-14 * (lambda.size() > 0 ? lambda.maxCoeff() : 0.0);
+  Eigen::VectorXd inv(lambda.size());
+  for (int i = 0; i < lambda.size(); ++i) inv(i) = lambda(i) > floor ? 1.0 / lambda(i) : 0.0;
+  return V.transpose() * (inv.asDiagonal() * (V * b));
 }
 
 }  // namespace pgba

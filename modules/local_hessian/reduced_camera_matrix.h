@@ -5,6 +5,8 @@
 #include "modules/local_hessian/local_bundle.h"
 #include "modules/local_hessian/local_hessian.h"
 
+#include <Eigen/Cholesky>
+
 namespace pgba {
 
 struct ReducedCameraSystem {
@@ -46,5 +48,12 @@ GaugePrior ComputeGaugePrior(const Eigen::MatrixXd& h, const std::vector<PoseBlo
 // h = V^T diag(D)^2 V (paper eq. 5): rows of V orthonormal eigenvectors, eigenvalues
 // ascending, negative ones (rounding) clamped to 0 before the square root.
 void DecomposeReducedMatrix(const Eigen::MatrixXd& h, Eigen::MatrixXd* V, Eigen::VectorXd* D);
+
+// h = P^T L diag(d) L^T P (pivoted LDL^T): V = L^T P, D = sqrt(max(d, 0)); returns the
+// factorisation for solves.
+Eigen::LDLT<Eigen::MatrixXd> FactorReducedMatrixLdlt(const Eigen::MatrixXd& h, Eigen::MatrixXd* V, Eigen::VectorXd* D);
+
+// h^+ b for h = V^T diag(D)^2 V: eigenvalues below 1e-14 of the largest count as zero.
+Eigen::VectorXd PseudoInverseSolve(const Eigen::MatrixXd& V, const Eigen::VectorXd& D, const Eigen::VectorXd& b);
 
 }  // namespace pgba

@@ -26,6 +26,26 @@ const char* RefinementMethodName(RefinementMethod method) {
   return "unknown";
 }
 
+LocalHessianOptions WholeTrackLocalHessianOptions() {
+  LocalHessianOptions o;
+  o.attenuation_q = 0.0;
+  o.min_eigenvalue_ratio = 0.0;
+  o.max_iterations = 0;
+  o.factor = HessianFactor::kLdlt;
+  return o;
+}
+
+GlobalBAOptions WholeTrackGlobalBAOptions() {
+  GlobalBAOptions o;
+  o.irls_factor = 0.0;
+  o.huber_factor = 0.0;
+  o.max_rounds = 1;
+  o.relinearize_misfit = 0.0;
+  o.relinearize_checked = true;
+  o.max_relinearizations = 1;
+  return o;
+}
+
 void AddRefinementSections(ConfigSchema* schema) {
   const RefinementOptions defaults;
   schema->Add("local_motions", defaults.local_motions)
@@ -47,7 +67,7 @@ PreparedHessians PrepareLocalHessians(const Reconstruction& tracks, const std::m
   Timer timer;
   PreparedHessians out;
   std::map<uint32_t, Pose> start = initial;
-  if (options.local_motions.views > 3) {
+  if (NeedsConvergedStart(options.local_motions)) {
     // N-view motions start where the triplets' pointless BA ends: the initial poses are too
     // far from the local optima of long motions (local_motions.h). Images that BA leaves out
     // keep their initial pose, so that the motions are chosen over the same images as from
@@ -139,7 +159,7 @@ RefinementResult RefineWithMotions(RefinementMethod method, const Reconstruction
   r.excluded_images = g.summary.excluded_images;
   r.num_params = g.summary.num_params;
   r.iterations = g.summary.iterations;
-  r.details = {{"motion_views", options.local_motions.views > 3 ? options.local_motions.views : 3},
+  r.details = {{"motion_kind", options.local_motions.kind},
                {"motions", hessians.motions.size()},
                {"triplets_used", g.summary.num_triplets},
                {"triplets_excluded", g.summary.num_triplets_excluded},

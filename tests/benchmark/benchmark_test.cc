@@ -29,9 +29,15 @@ const MethodOutcome& Method(const BenchmarkResult& r, RefinementMethod m) {
   throw std::runtime_error("method missing");
 }
 
+// The paper's method (triplets, attenuation, IRLS on the motions): configs/paper_triplets.json.
+RefinementOptions PaperTriplets() {
+  return LoadRunOptions(std::string(PGBA_SOURCE_DIR) + "/configs/paper_triplets.json").reconstruction.refinement;
+}
+
 BenchmarkResult RunScene(const Case& c, SyntheticScene* scene_out = nullptr) {
   const SyntheticScene scene = test::AcceptanceScene(c.scenario, c.images, /*seed=*/7);
   BenchmarkOptions options;
+  options.refinement = PaperTriplets();
   Report report;
   const GlobalMapperResult init = RunGlobalMapper(scene.input, options.mapper, &report);
   BenchmarkResult r = RunBenchmark(scene.input, init, &scene.gt,
@@ -42,7 +48,7 @@ BenchmarkResult RunScene(const Case& c, SyntheticScene* scene_out = nullptr) {
 
 class BenchmarkOnScene : public ::testing::TestWithParam<Case> {};
 
-TEST_P(BenchmarkOnScene, PointlessReachesPointBasedSigmaWithFarFewerUnknowns) {
+TEST_P(BenchmarkOnScene, PaperTripletsReachPointBasedSigmaWithFarFewerUnknowns) {
   SyntheticScene scene;
   const BenchmarkResult r = RunScene(GetParam(), &scene);
   std::ostringstream table;
@@ -90,6 +96,49 @@ INSTANTIATE_TEST_SUITE_P(Scenarios, BenchmarkOnScene,
                          ::testing::Values(Case{SyntheticScenario::kOrbit, 70}, Case{SyntheticScenario::kAerial, 30}),
                          [](const auto& info) { return std::string(SyntheticScenarioName(info.param.scenario)); });
 
+// The default method, whole-track motions (whole_track_motions.h), on the acceptance scenes:
+// the poses are as accurate as the point-based BA's by the gauge-free metric (median and max
+// relative rotation error over all image pairs; measured 0.99-1.01x with seed 1 of
+// bench/pose_accuracy.sh), sigma within 0.5%, a quarter of the unknowns at most, and the
+// re-linearised steps kept only where they lowered the robust cost.
+class DefaultOnScene : public ::testing::TestWithParam<Case> {};
+
+TEST_P(DefaultOnScene, PosesAsAccurateAsPointBased) {
+  const SyntheticScene scene = test::AcceptanceScene(GetParam().scenario, GetParam().images, /*seed=*/7);
+  BenchmarkOptions options;
+  options.convergence = false;
+  Report report;
+  const GlobalMapperResult init = RunGlobalMapper(scene.input, options.mapper, &report);
+  const BenchmarkResult r = RunBenchmark(scene.input, init, &scene.gt, nullptr, options);
+  std::ostringstream table;
+  PrintBenchmarkTables(r, table);
+  std::cout << SyntheticScenarioName(GetParam().scenario) << table.str();
+  const MethodOutcome& pl = Method(r, RefinementMethod::kPointless);
+  const MethodOutcome& pb = Method(r, RefinementMethod::kPointBased);
+  // Every image the initialisation registered is refined (on the seed-7 planar video the
+  // initialisation itself keeps 42 of 60).
+  ASSERT_EQ(pl.refinement.poses.size(), init.init.poses.size());
+  ASSERT_TRUE(pl.metrics.ground_truth && pb.metrics.ground_truth);
+  const GroundTruthErrors& gl = *pl.metrics.ground_truth;
+  const GroundTruthErrors& gb = *pb.metrics.ground_truth;
+  ASSERT_GT(gl.num_pairs, 0u);
+  EXPECT_LE(gl.rel_rot_err_deg_median, 1.05 * gb.rel_rot_err_deg_median);
+  EXPECT_LE(gl.rel_rot_err_deg_max, 1.1 * gb.rel_rot_err_deg_max);
+  EXPECT_LE(gl.rel_dir_err_deg_median, 1.05 * gb.rel_dir_err_deg_median);
+  EXPECT_LE(pl.metrics.sigma.rms, 1.005 * pb.metrics.sigma.rms);
+  EXPECT_LE(4 * pl.refinement.num_params, pb.refinement.num_params);
+  const nlohmann::json j = r.ToJson();
+  for (const char* key : {"rel_rot_err_deg_median", "rel_rot_err_deg_max", "rel_dir_err_deg_median"})
+    EXPECT_TRUE(j["methods"]["pointless"].contains(key)) << key;
+  EXPECT_EQ(j["methods"]["pointless"]["details"]["method"]["motion_kind"].get<std::string>(), "whole_tracks");
+  EXPECT_GE(j["methods"]["pointless"]["details"]["method"]["relinearizations"].get<int>(), 1);
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenarios, DefaultOnScene,
+                         ::testing::Values(Case{SyntheticScenario::kOrbit, 70}, Case{SyntheticScenario::kAerial, 30},
+                                           Case{SyntheticScenario::kPlanar, 60}),
+                         [](const auto& info) { return std::string(SyntheticScenarioName(info.param.scenario)); });
+
 TEST(SvgPlot, LogScaleSkipsNonPositiveValuesAndNamesEverySeries) {
   PlotOptions o;
   o.log_y = true;
@@ -110,10 +159,9 @@ TEST(SvgPlot, LogScaleSkipsNonPositiveValuesAndNamesEverySeries) {
 
 // The long-focal loop of the README table (93 telephoto views, seed 1; tracks over 10-30 of
 // them) with the preset's motions of 7 views (configs/longfocal.json) against the paper's
-// triplets, on one initialisation: the motions meet every bar of the issue there (sigma
-// 1.005, loop 1.33x point-based), the triplets miss the loop bar (1.87x). Not every seed
-// does: seed 7 gives 2.64x with the motions and 2.47x with the triplets (README, "Measured").
-TEST(LongFocalMotions, SevenViewMotionsMeetTheLoopBarWhereTripletsMissIt) {
+// triplets, on one initialisation: the motions meet the loop bar there (loop 1.33x
+// point-based, sigma 1.005) and halve the triplets' rotation error.
+TEST(LongFocalMotions, SevenViewMotionsMeetTheLoopBar) {
   const SyntheticScene scene = test::AcceptanceScene(SyntheticScenario::kLongFocal, 0, /*seed=*/1);
   const RunOptions preset = LoadRunOptions(std::string(PGBA_SOURCE_DIR) + "/configs/longfocal.json");
   BenchmarkOptions options;
@@ -122,9 +170,10 @@ TEST(LongFocalMotions, SevenViewMotionsMeetTheLoopBarWhereTripletsMissIt) {
   Report report;
   const GlobalMapperResult init = RunGlobalMapper(scene.input, options.mapper, &report);
   options.refinement = preset.reconstruction.refinement;
+  ASSERT_EQ(options.refinement.local_motions.kind, MotionKind::kNeighbours);
   ASSERT_EQ(options.refinement.local_motions.views, 7);
   const BenchmarkResult motions = RunBenchmark(scene.input, init, &scene.gt, &scene.loop_pairs, options);
-  options.refinement.local_motions.views = 3;
+  options.refinement.local_motions.kind = MotionKind::kTriplets;
   const BenchmarkResult triplets = RunBenchmark(scene.input, init, &scene.gt, &scene.loop_pairs, options);
 
   const MethodOutcome& pl = Method(motions, RefinementMethod::kPointless);
@@ -138,12 +187,12 @@ TEST(LongFocalMotions, SevenViewMotionsMeetTheLoopBarWhereTripletsMissIt) {
               pb.metrics.ground_truth->rot_err_deg_median, pl.metrics.loop->rms, tr.metrics.loop->rms,
               pb.metrics.loop->rms);
   EXPECT_EQ(pl.refinement.poses.size(), scene.gt.images.size());
-  EXPECT_LE(pl.metrics.sigma.rms, 1.05 * pb.metrics.sigma.rms);
+  EXPECT_LE(pl.metrics.sigma.rms, 1.01 * pb.metrics.sigma.rms);
   EXPECT_LE(4 * pl.refinement.num_params, pb.refinement.num_params);
-  EXPECT_LE(pl.metrics.loop->rms, 1.5 * pb.metrics.loop->rms);
-  EXPECT_GT(tr.metrics.loop->rms, 1.5 * pb.metrics.loop->rms);  // what the motions are for
-  EXPECT_LE(pl.metrics.ground_truth->rot_err_deg_median, 0.7 * tr.metrics.ground_truth->rot_err_deg_median);
-  EXPECT_EQ(motions.ToJson()["methods"]["pointless"]["details"]["method"]["motion_views"].get<int>(), 7);
+  EXPECT_LE(pl.metrics.loop->rms, 1.4 * pb.metrics.loop->rms);
+  EXPECT_LE(pl.metrics.ground_truth->rot_err_deg_median, 0.5 * tr.metrics.ground_truth->rot_err_deg_median);
+  EXPECT_EQ(motions.ToJson()["methods"]["pointless"]["details"]["method"]["motion_kind"].get<std::string>(),
+            "neighbours");
 }
 
 // The pointless BA approximates, by one quadratic per triplet, the sum of the triplets' own
@@ -154,6 +203,7 @@ TEST(LongFocalMotions, SevenViewMotionsMeetTheLoopBarWhereTripletsMissIt) {
 TEST(TripletSplitBaseline, PointlessMatchesTheObjectiveItApproximates) {
   const SyntheticScene scene = test::AcceptanceScene(SyntheticScenario::kOrbit, 40, /*seed=*/7);
   BenchmarkOptions options;
+  options.refinement = PaperTriplets();
   options.convergence = false;
   options.triplet_split = true;
   Report report;
@@ -181,6 +231,7 @@ TEST(TripletSplitBaseline, PointlessMatchesTheObjectiveItApproximates) {
 TEST(OutlierSweep, PointlessBAIsRobustToOutlierMotions) {
   const SyntheticScene scene = test::AcceptanceScene(SyntheticScenario::kOrbit, 70, /*seed=*/7);
   BenchmarkOptions options;
+  options.refinement = PaperTriplets();
   options.outlier_sweep = {0.0, 0.2};
   Report report;
   const GlobalMapperResult init = RunGlobalMapper(scene.input, options.mapper, &report);

@@ -53,6 +53,30 @@ TEST(GroundTruth, SimilarCopyHasZeroError) {
   EXPECT_LT(RotationAngleDeg(e.alignment.R * S.R, Eigen::Matrix3d::Identity()), 1e-9);
 }
 
+// The gauge-free relative errors: zero under any similarity of the whole model (no alignment
+// involved), and exactly the known angle for the pairs of one rotated camera.
+TEST(GroundTruth, RelativeErrorsAreGaugeFreeAndExact) {
+  const test::TestScene s = test::MakeTestScene(24, 12, 100);
+  const Sim3 S = SomeSim3(2);
+  Reconstruction model = test::RenumberedPosesOnly(s.gt, 50);
+  for (auto& [id, im] : model.images) im.pose = S.Apply(im.pose);
+  GroundTruthErrors e = CompareToGroundTruth(model, s.gt);
+  EXPECT_EQ(e.num_pairs, 66u);
+  EXPECT_LT(e.rel_rot_err_deg_max, 1e-6);
+  EXPECT_LT(e.rel_dir_err_deg_max, 1e-6);
+  // One camera rotated by 1.5 deg about a random axis: the 11 of the 66
+  // pairs see exactly 1.5 deg, the others 0 (median 0); the direction from that camera to
+  // each other centre turns by at most 1.5 deg.
+  std::mt19937_64 rng(9);
+  Image& first = model.images.begin()->second;
+  first.pose = Pose::FromRC(first.pose.R() * RandomRotationOfAngle(rng, 1.5 * M_PI / 180.0), first.pose.C());
+  e = CompareToGroundTruth(model, s.gt);
+  EXPECT_NEAR(e.rel_rot_err_deg_max, 1.5, 1e-9);
+  EXPECT_LT(e.rel_rot_err_deg_median, 1e-6);
+  EXPECT_LE(e.rel_dir_err_deg_max, 1.5 + 1e-9);
+  EXPECT_GT(e.rel_dir_err_deg_max, 0.1);
+}
+
 TEST(GroundTruth, ReportsKnownRotationErrors) {
   const test::TestScene s = test::MakeTestScene(23, 12, 100);
   std::mt19937_64 rng(5);

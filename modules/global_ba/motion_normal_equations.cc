@@ -1,0 +1,353 @@
+#include "modules/global_ba/motion_normal_equations.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/SparseCholesky>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace pgba {
+
+namespace {
+
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
+using Matrix67 = Eigen::Matrix<double, 6, 7>;
+using Matrix7d = Eigen::Matrix<double, 7, 7>;
+using Vector7d = Eigen::Matrix<double, 7, 1>;
+using Vector6d = Eigen::Matrix<double, 6, 1>;
+
+// Ceres' bounds on the Levenberg-Marquardt diagonal.
+constexpr double kMinDiagonal = 1e-6;
+constexpr double kMaxDiagonal = 1e32;
+// Ceres' min_relative_decrease: a step is taken when the cost falls by this share of the
+// model's prediction.
+constexpr double kMinRelativeDecrease = 1e-3;
+// Pose systems up to this many unknowns are factorised densely (250 images).
+constexpr int kMaxDenseUnknowns = 1500;
+
+std::vector<const double*> PosePointers(const MotionBlockProblem& p, const MotionBlockTerm& t) {
+  std::vector<const double*> out;
+  for (const int i : t.poses) out.push_back(p.poses[i]->x.data());
+  return out;
+}
+
+// One motion's normal equations at the current state (undamped).
+struct TermSystem {
+  std::vector<Matrix6d> A;   // d dx_k / d pose_k
+  std::vector<Matrix67> B;   // d dx_k / d sim
+  std::vector<Matrix6d> Hpp;  // N x N blocks, row-major (k * N + l)
+  Eigen::Matrix<double, Eigen::Dynamic, 7> Hps;  // 6N x 7
+  Matrix7d Hss;
+  Eigen::VectorXd gp;  // 6N
+  Vector7d gs;
+};
+
+TermSystem Linearize(const MotionBlockProblem& p, const MotionBlockTerm& t, const Eigen::MatrixXd& h) {
+  TermSystem s;
+  const int n = static_cast<int>(t.poses.size());
+  Eigen::VectorXd dx;
+  std::vector<Eigen::Matrix<double, 6, 13>> J;
+  t.residual->Linearize(PosePointers(p, t), t.sim, &dx, &J);
+  const Eigen::VectorXd u = t.residual->W().transpose() * (t.residual->W() * dx - t.residual->offset());
+  s.A.resize(n);
+  s.B.resize(n);
+  for (int k = 0; k < n; ++k) {
+    s.A[k] = J[k].leftCols<6>();
+    s.B[k] = J[k].rightCols<7>();
+  }
+  // h A and h B, column block by column block: O(N^2).
+  Eigen::MatrixXd hA(6 * n, 6 * n);
+  Eigen::Matrix<double, Eigen::Dynamic, 7> hB = Eigen::Matrix<double, Eigen::Dynamic, 7>::Zero(6 * n, 7);
+  for (int l = 0; l < n; ++l) {
+    hA.middleCols<6>(6 * l).noalias() = h.middleCols<6>(6 * l) * s.A[l];
+    hB.noalias() += h.middleCols<6>(6 * l) * s.B[l];
+  }
+  s.Hpp.resize(n * n);
+  s.Hps.resize(6 * n, 7);
+  s.Hss.setZero();
+  s.gp.resize(6 * n);
+  s.gs.setZero();
+  for (int k = 0; k < n; ++k) {
+    for (int l = 0; l < n; ++l) s.Hpp[k * n + l].noalias() = t.weight * s.A[k].transpose() * hA.block<6, 6>(6 * k, 6 * l);
+    s.Hps.middleRows<6>(6 * k).noalias() = t.weight * s.A[k].transpose() * hB.middleRows<6>(6 * k);
+    s.Hss.noalias() += t.weight * s.B[k].transpose() * hB.middleRows<6>(6 * k);
+    s.gp.segment<6>(6 * k).noalias() = t.weight * s.A[k].transpose() * u.segment<6>(6 * k);
+    s.gs.noalias() += t.weight * s.B[k].transpose() * u.segment<6>(6 * k);
+  }
+  return s;
+}
+
+Vector7d Clamped(const Vector7d& d) { return d.cwiseMax(kMinDiagonal).cwiseMin(kMaxDiagonal); }
+
+// The sparse pose system: free variables (the gauge's are left out), one 6 x 6 block per pair
+// of poses that share a motion, lower triangle, with the value index of every block entry.
+class PoseSystem {
+ public:
+  explicit PoseSystem(const MotionBlockProblem& p) {
+    const int m = static_cast<int>(p.poses.size());
+    var_.assign(6 * m, -1);
+    int n = 0;
+    for (int i = 0; i < m; ++i)
+      for (int c = 0; c < 6; ++c) {
+        const bool fixed = i == p.fixed_pose || (i == p.scale_pose && c == p.scale_coord);
+        if (!fixed) var_[6 * i + c] = n++;
+      }
+    num_free_ = n;
+    std::vector<std::pair<int, int>> pairs;
+    for (int i = 0; i < m; ++i) pairs.emplace_back(i, i);
+    for (const MotionBlockTerm& t : p.terms)
+      for (const int a : t.poses)
+        for (const int b : t.poses)
+          if (a > b) pairs.emplace_back(a, b);
+    std::sort(pairs.begin(), pairs.end());
+    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+    pairs_ = pairs;
+    std::vector<Eigen::Triplet<double>> entries;
+    for (const auto& [a, b] : pairs_)
+      for (int r = 0; r < 6; ++r)
+        for (int c = 0; c < 6; ++c) {
+          const int vr = var_[6 * a + r], vc = var_[6 * b + c];
+          if (vr >= 0 && vc >= 0 && vr >= vc) entries.emplace_back(vr, vc, 1.0);
+        }
+    matrix_.resize(num_free_, num_free_);
+    matrix_.setFromTriplets(entries.begin(), entries.end());
+    matrix_.makeCompressed();
+    value_index_.resize(pairs_.size());
+    for (size_t k = 0; k < pairs_.size(); ++k) {
+      const auto [a, b] = pairs_[k];
+      for (int r = 0; r < 6; ++r)
+        for (int c = 0; c < 6; ++c) {
+          const int vr = var_[6 * a + r], vc = var_[6 * b + c];
+          value_index_[k][6 * r + c] = vr >= 0 && vc >= 0 && vr >= vc ? Index(vr, vc) : -1;
+        }
+    }
+    blocks_.assign(pairs_.size(), Matrix6d::Zero());
+    if (!dense()) solver_.analyzePattern(matrix_);
+  }
+
+  int num_free() const { return num_free_; }
+  int var(int pose, int coord) const { return var_[6 * pose + coord]; }
+  // Block id of the pair (a, b), a >= b.
+  int Block(int a, int b) const {
+    return static_cast<int>(std::lower_bound(pairs_.begin(), pairs_.end(), std::make_pair(a, b)) - pairs_.begin());
+  }
+  void Zero() {
+    for (Matrix6d& b : blocks_) b.setZero();
+  }
+  Matrix6d& block(int id) { return blocks_[id]; }
+  const Matrix6d& block(int id) const { return blocks_[id]; }
+  int num_poses() const { return static_cast<int>(var_.size() / 6); }
+
+  // Factorises the assembled blocks plus `diagonal` (per free variable); false on failure.
+  // Small systems are factorised densely (blocked Cholesky: the pose system of a block of a
+  // few hundred images is nearly dense, where the simplicial sparse factorisation is ~10x
+  // slower), large ones sparsely.
+  bool Factorize(const Eigen::VectorXd& diagonal) {
+    if (dense()) {
+      dense_.setZero(num_free_, num_free_);
+      for (size_t k = 0; k < pairs_.size(); ++k) {
+        const auto [a, b] = pairs_[k];
+        for (int r = 0; r < 6; ++r)
+          for (int c = 0; c < 6; ++c) {
+            const int vr = var_[6 * a + r], vc = var_[6 * b + c];
+            if (vr >= 0 && vc >= 0 && vr >= vc) dense_(vr, vc) += blocks_[k](r, c);
+          }
+      }
+      dense_.diagonal() += diagonal;
+      dense_llt_.compute(dense_);
+      return dense_llt_.info() == Eigen::Success;
+    }
+    double* values = matrix_.valuePtr();
+    std::fill(values, values + matrix_.nonZeros(), 0.0);
+    for (size_t k = 0; k < pairs_.size(); ++k)
+      for (int e = 0; e < 36; ++e)
+        if (value_index_[k][e] >= 0) values[value_index_[k][e]] += blocks_[k](e / 6, e % 6);
+    for (int i = 0; i < num_free_; ++i) matrix_.coeffRef(i, i) += diagonal(i);
+    solver_.factorize(matrix_);
+    return solver_.info() == Eigen::Success;
+  }
+  Eigen::VectorXd Solve(const Eigen::VectorXd& b) const {
+    if (dense()) return dense_llt_.solve(b);
+    return solver_.solve(b);
+  }
+  bool dense() const { return num_free_ <= kMaxDenseUnknowns; }
+
+ private:
+  int Index(int row, int col) const {
+    const int* inner = matrix_.innerIndexPtr();
+    const int begin = matrix_.outerIndexPtr()[col], end = matrix_.outerIndexPtr()[col + 1];
+    return static_cast<int>(std::lower_bound(inner + begin, inner + end, row) - inner);
+  }
+
+  std::vector<int> var_;
+  int num_free_ = 0;
+  std::vector<std::pair<int, int>> pairs_;
+  std::vector<std::array<int, 36>> value_index_;
+  std::vector<Matrix6d> blocks_;
+  Eigen::SparseMatrix<double> matrix_;
+  Eigen::MatrixXd dense_;  // lower triangle used
+  Eigen::LLT<Eigen::MatrixXd> dense_llt_;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> solver_;
+};
+
+}  // namespace
+
+double MotionBlockCost(const MotionBlockProblem& p) {
+  double cost = 0.0;
+  for (const MotionBlockTerm& t : p.terms) cost += 0.5 * t.weight * t.residual->Evaluate(PosePointers(p, t), t.sim).squaredNorm();
+  return cost;
+}
+
+MotionBlockSummary SolveMotionBlocks(const MotionBlockProblem& p, const MotionBlockSolverOptions& options,
+                                     const MotionBlockCallback& callback) {
+  MotionBlockSummary summary;
+  PoseSystem system(p);
+  std::vector<const Eigen::MatrixXd*> h(p.terms.size());
+  std::vector<std::vector<int>> block_of(p.terms.size());  // per term, k * N + l -> block id (k >= l by pose)
+  for (size_t ti = 0; ti < p.terms.size(); ++ti) {
+    const MotionBlockTerm& t = p.terms[ti];
+    h[ti] = t.h;
+    const int n = static_cast<int>(t.poses.size());
+    block_of[ti].resize(n * n);
+    for (int k = 0; k < n; ++k)
+      for (int l = 0; l < n; ++l)
+        block_of[ti][k * n + l] = system.Block(std::max(t.poses[k], t.poses[l]), std::min(t.poses[k], t.poses[l]));
+  }
+
+  double cost = MotionBlockCost(p);
+  summary.initial_cost = summary.final_cost = cost;
+  if (!std::isfinite(cost)) {
+    summary.usable = false;
+    summary.message = "non-finite initial cost";
+    return summary;
+  }
+  if (callback) callback(0, cost);
+  double radius = options.initial_radius, nu = 2.0;
+  const int m = static_cast<int>(p.poses.size());
+  std::vector<TermSystem> sys(p.terms.size());
+  bool relinearize = true;
+  Eigen::VectorXd gradient(system.num_free()), pose_diagonal(system.num_free());
+  for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
+    if (relinearize) {
+      gradient.setZero();
+      pose_diagonal.setZero();
+      for (size_t ti = 0; ti < p.terms.size(); ++ti) {
+        sys[ti] = Linearize(p, p.terms[ti], *h[ti]);
+        const MotionBlockTerm& t = p.terms[ti];
+        for (size_t k = 0; k < t.poses.size(); ++k)
+          for (int c = 0; c < 6; ++c) {
+            const int v = system.var(t.poses[k], c);
+            if (v < 0) continue;
+            gradient(v) += sys[ti].gp(6 * k + c);
+            pose_diagonal(v) += sys[ti].Hpp[k * t.poses.size() + k](c, c);
+          }
+      }
+      relinearize = false;
+    }
+    // Damped reduced system: each motion's similarity eliminated with its damped 7 x 7 block.
+    system.Zero();
+    Eigen::VectorXd rhs = -gradient;
+    std::vector<Matrix7d> Hss_inv(p.terms.size());
+    for (size_t ti = 0; ti < p.terms.size(); ++ti) {
+      const TermSystem& s = sys[ti];
+      const MotionBlockTerm& t = p.terms[ti];
+      const int n = static_cast<int>(t.poses.size());
+      Matrix7d Hss = s.Hss;
+      Hss.diagonal() += Clamped(s.Hss.diagonal()) / radius;
+      Hss_inv[ti] = Hss.ldlt().solve(Matrix7d::Identity());
+      const Eigen::Matrix<double, Eigen::Dynamic, 7> M = s.Hps * Hss_inv[ti];  // 6N x 7
+      const Eigen::VectorXd Mg = M * s.gs;
+      for (int k = 0; k < n; ++k) {
+        for (int l = 0; l < n; ++l) {
+          if (t.poses[k] < t.poses[l]) continue;  // lower triangle by pose index
+          Matrix6d b = s.Hpp[k * n + l] - M.middleRows<6>(6 * k) * s.Hps.middleRows<6>(6 * l).transpose();
+          system.block(block_of[ti][k * n + l]) += b;
+        }
+        for (int c = 0; c < 6; ++c) {
+          const int v = system.var(t.poses[k], c);
+          if (v >= 0) rhs(v) += Mg(6 * k + c);
+        }
+      }
+    }
+    Eigen::VectorXd damping(system.num_free());
+    for (int i = 0; i < system.num_free(); ++i)
+      damping(i) = std::min(std::max(pose_diagonal(i), kMinDiagonal), kMaxDiagonal) / radius;
+    if (!system.Factorize(damping)) {
+      summary.usable = false;
+      summary.message = "the reduced pose system could not be factorised";
+      return summary;
+    }
+    const Eigen::VectorXd dp = system.Solve(rhs);
+    if (!dp.allFinite()) {
+      summary.usable = false;
+      summary.message = "non-finite step";
+      return summary;
+    }
+    // Back-substitution of the similarities and the model's predicted decrease.
+    std::vector<Vector6d> pose_step(m, Vector6d::Zero());
+    for (int i = 0; i < m; ++i)
+      for (int c = 0; c < 6; ++c)
+        if (const int v = system.var(i, c); v >= 0) pose_step[i](c) = dp(v);
+    std::vector<Vector7d> sim_step(p.terms.size());
+    double predicted = 0.0, step_norm2 = 0.0, x_norm2 = 0.0;
+    for (size_t ti = 0; ti < p.terms.size(); ++ti) {
+      const TermSystem& s = sys[ti];
+      const MotionBlockTerm& t = p.terms[ti];
+      Vector7d b = s.gs;
+      for (size_t k = 0; k < t.poses.size(); ++k) b += s.Hps.middleRows<6>(6 * k).transpose() * pose_step[t.poses[k]];
+      sim_step[ti] = -Hss_inv[ti] * b;
+      Eigen::VectorXd jd(6 * t.poses.size());
+      for (size_t k = 0; k < t.poses.size(); ++k)
+        jd.segment<6>(6 * k) = s.A[k] * pose_step[t.poses[k]] + s.B[k] * sim_step[ti];
+      const double quad = t.weight * jd.dot(*h[ti] * jd);
+      double lin = s.gs.dot(sim_step[ti]);
+      for (size_t k = 0; k < t.poses.size(); ++k) lin += s.gp.segment<6>(6 * k).dot(pose_step[t.poses[k]]);
+      predicted += -lin - 0.5 * quad;
+      step_norm2 += sim_step[ti].squaredNorm();
+      x_norm2 += Eigen::Map<const Vector7d>(t.sim).squaredNorm();
+    }
+    for (int i = 0; i < m; ++i) {
+      step_norm2 += pose_step[i].squaredNorm();
+      x_norm2 += p.poses[i]->x.squaredNorm();
+    }
+    // Trial step.
+    std::vector<PoseVector> saved_poses(m);
+    std::vector<Vector7d> saved_sims(p.terms.size());
+    for (int i = 0; i < m; ++i) {
+      saved_poses[i] = p.poses[i]->x;
+      p.poses[i]->x += pose_step[i];
+    }
+    for (size_t ti = 0; ti < p.terms.size(); ++ti) {
+      Eigen::Map<Vector7d> x(p.terms[ti].sim);
+      saved_sims[ti] = x;
+      x += sim_step[ti];
+    }
+    const double new_cost = MotionBlockCost(p);
+    const double rho = predicted > 0 ? (cost - new_cost) / predicted : -1.0;
+    summary.iterations = iteration;
+    if (std::isfinite(new_cost) && rho > kMinRelativeDecrease) {
+      const double decrease = cost - new_cost;
+      cost = new_cost;
+      radius = radius / std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3));
+      nu = 2.0;
+      relinearize = true;
+      if (callback) callback(iteration, cost);
+      if (decrease <= options.function_tolerance * (cost + decrease)) break;
+      if (std::sqrt(step_norm2) <= options.parameter_tolerance * (std::sqrt(x_norm2) + options.parameter_tolerance))
+        break;
+    } else {
+      for (int i = 0; i < m; ++i) p.poses[i]->x = saved_poses[i];
+      for (size_t ti = 0; ti < p.terms.size(); ++ti) Eigen::Map<Vector7d>(p.terms[ti].sim) = saved_sims[ti];
+      radius /= nu;
+      nu *= 2.0;
+      if (callback) callback(iteration, cost);
+      if (std::sqrt(step_norm2) <= options.parameter_tolerance * (std::sqrt(x_norm2) + options.parameter_tolerance))
+        break;
+    }
+  }
+  summary.final_cost = cost;
+  return summary;
+}
+
+}  // namespace pgba

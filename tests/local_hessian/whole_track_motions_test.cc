@@ -1,0 +1,115 @@
+// Whole-track motions (whole_track_motions.h): every track in exactly one motion with all of
+// its views, and the consequence the method rests on: the sum of the motions' local Hessians
+// is the point-based reduced camera system, checked against the Schur complement of one
+// motion holding every image and every track (the point-based BA's own system).
+#include "modules/local_hessian/whole_track_motions.h"
+
+#include <gtest/gtest.h>
+
+#include <map>
+#include <set>
+
+#include "modules/local_hessian/local_hessian.h"
+#include "modules/mapper/pose_refinement.h"
+#include "tests/global_ba/global_ba_fixture.h"
+#include "tests/local_hessian/ring_scene.h"
+
+namespace pgba {
+namespace {
+
+using testing::MakeRingScene;
+using testing::PosesOf;
+using testing::RingSceneOptions;
+
+Reconstruction Ring(int num_images, double visibility_deg, uint64_t seed) {
+  RingSceneOptions o;
+  o.num_images = num_images;
+  o.num_points = 1500;
+  o.visibility_deg = visibility_deg;
+  o.noise_px = 0.5;
+  o.seed = seed;
+  return MakeRingScene(o);
+}
+
+std::set<uint32_t> PosedViews(const Point3D& p, const std::map<uint32_t, Pose>& poses) {
+  std::set<uint32_t> v;
+  for (const TrackElement& el : p.track)
+    if (poses.count(el.image_id)) v.insert(el.image_id);
+  return v;
+}
+
+TEST(WholeTrackMotions, EveryTrackInExactlyOneMotionWithAllItsViews) {
+  const Reconstruction rec = Ring(24, 70.0, 3);
+  std::map<uint32_t, Pose> poses = PosesOf(rec);
+  poses.erase(poses.begin());  // an image without a pose: its observations must not count
+  WholeTrackMotionOptions o;
+  o.max_views = 8;
+  o.min_tracks = 30;
+  const std::vector<LocalMotion> motions = SelectWholeTrackMotions(rec, poses, o);
+  ASSERT_GT(motions.size(), 1u);
+  std::map<uint64_t, int> owner;
+  for (size_t m = 0; m < motions.size(); ++m) {
+    const std::set<uint32_t> views(motions[m].image_ids.begin(), motions[m].image_ids.end());
+    EXPECT_EQ(views.size(), motions[m].image_ids.size());
+    EXPECT_TRUE(std::is_sorted(motions[m].image_ids.begin(), motions[m].image_ids.end()));
+    EXPECT_GE(static_cast<int>(motions[m].track_ids.size()), o.min_tracks);
+    ASSERT_EQ(motions[m].local_poses.size(), motions[m].image_ids.size());
+    for (const uint64_t t : motions[m].track_ids) {
+      EXPECT_TRUE(owner.emplace(t, static_cast<int>(m)).second) << "track " << t << " in two motions";
+      for (const uint32_t v : PosedViews(rec.points3D.at(t), poses)) EXPECT_TRUE(views.count(v)) << "track " << t;
+    }
+  }
+  size_t expected = 0;
+  for (const auto& [id, p] : rec.points3D) expected += PosedViews(p, poses).size() >= 2;
+  EXPECT_EQ(owner.size(), expected);
+  // Deterministic.
+  const std::vector<LocalMotion> again = SelectWholeTrackMotions(rec, poses, o);
+  ASSERT_EQ(again.size(), motions.size());
+  for (size_t m = 0; m < motions.size(); ++m) {
+    EXPECT_EQ(again[m].image_ids, motions[m].image_ids);
+    EXPECT_EQ(again[m].track_ids, motions[m].track_ids);
+  }
+}
+
+// The sum of the local Hessians (without their gauge priors: h_points) of the whole-track
+// motions, all in the global frame at the same poses, equals the reduced camera system of
+// the whole block, to rounding. With triplets it does not (tracks cut, observations counted
+// several times): the difference the method removes.
+TEST(WholeTrackMotions, SumOfLocalHessiansIsThePointBasedReducedCameraSystem) {
+  const Reconstruction rec = Ring(16, 60.0, 5);
+  const std::map<uint32_t, Pose> poses = PosesOf(rec);
+  const LocalHessianOptions lh = WholeTrackLocalHessianOptions();
+  WholeTrackMotionOptions o;
+  o.max_views = 6;
+  const std::vector<LocalMotion> motions = SelectWholeTrackMotions(rec, poses, o);
+  ASSERT_GT(motions.size(), 2u);
+
+  LocalMotion all;
+  for (const auto& [id, pose] : poses) {
+    all.image_ids.push_back(id);
+    all.local_poses.push_back(pose);
+  }
+  for (const auto& [id, p] : rec.points3D) all.track_ids.push_back(id);
+  const LocalHessian whole = ComputeLocalHessian(rec, all, 0, lh);
+  ASSERT_EQ(whole.status, LocalHessianStatus::kOk);
+  const Eigen::MatrixXd reference = whole.h - whole.prior;
+
+  std::map<uint32_t, int> slot;
+  for (size_t k = 0; k < all.image_ids.size(); ++k) slot[all.image_ids[k]] = static_cast<int>(k);
+  Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(reference.rows(), reference.cols());
+  int points = 0;
+  for (size_t m = 0; m < motions.size(); ++m) {
+    const LocalHessian h = ComputeLocalHessian(rec, motions[m], static_cast<int>(m), lh);
+    ASSERT_EQ(h.status, LocalHessianStatus::kOk) << m;
+    points += h.num_points;
+    const Eigen::MatrixXd hp = h.h - h.prior;
+    for (int a = 0; a < h.num_views(); ++a)
+      for (int b = 0; b < h.num_views(); ++b)
+        sum.block<6, 6>(6 * slot.at(h.image_ids[a]), 6 * slot.at(h.image_ids[b])) += hp.block<6, 6>(6 * a, 6 * b);
+  }
+  EXPECT_EQ(points, whole.num_points);
+  EXPECT_LE((sum - reference).norm(), 1e-9 * reference.norm());
+}
+
+}  // namespace
+}  // namespace pgba
