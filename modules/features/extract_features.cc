@@ -7,6 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <optional>
 
+#include "features/buffer_pool.h"
 #include "features/feature_file.h"
 #include "pgba/util/error.h"
 #include "pgba/util/logging.h"
@@ -94,6 +95,7 @@ FileOutcome ProcessFile(const fs::path& file, const std::string& feature_path, c
 FeatureExtractionResult ExtractFeatures(const std::string& images_dir, const CalibrationInput& calibration,
                                         const std::string& workspace, const FeatureExtractionOptions& options) {
   Timer timer;
+  ValidateSiftOptions(options.sift);
   const ImageCatalog catalog = BuildImageCatalog(images_dir, calibration);
   fs::create_directories(FeaturesDir(workspace));
 
@@ -109,6 +111,10 @@ FeatureExtractionResult ExtractFeatures(const std::string& images_dir, const Cal
   // OpenCV from picking up another whole image, which bounds memory to one SIFT pyramid per
   // arena thread (~400 MB at 1600 px, ~1.5 GB at 3200 px); max_parallel_images lowers it.
   tbb::task_arena arena(options.max_parallel_images > 0 ? options.max_parallel_images : tbb::task_arena::automatic);
+  // The scale-space buffers of a finished image serve the next one (buffer_pool.h): up to
+  // one 6 MP image's worth (~2 GiB at the 2x upsampled octave) per image in flight.
+  std::optional<ScopedImageBufferPool> buffer_pool;
+  if (options.reuse_buffers) buffer_pool.emplace((size_t(2) << 30) * static_cast<size_t>(arena.max_concurrency()));
   arena.execute([&] {
     tbb::parallel_for(size_t(0), n, [&](size_t i) {
       const std::string& name = catalog.files[i];

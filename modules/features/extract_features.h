@@ -20,8 +20,12 @@ struct FeatureExtractionOptions {
   // Images processed at once (0 = one per core). Each needs one SIFT scale space in memory,
   // ~400 MB at 1600 px and ~1.5 GB at 3200 px: lower this on many-core, small-memory hosts.
   int max_parallel_images = 0;
+  // Keep the large OpenCV buffers of a finished image for the next one (buffer_pool.h)
+  // instead of returning them to the system; false only to measure what that saves.
+  bool reuse_buffers = true;
 };
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(FeatureExtractionOptions, sift, use_cache, max_parallel_images)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(FeatureExtractionOptions, sift, use_cache, max_parallel_images,
+                                                reuse_buffers)
 
 struct SkippedImage {
   std::string name;

@@ -6,6 +6,9 @@
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
+#include <string>
+
+#include "pgba/util/error.h"
 
 namespace pgba {
 namespace {
@@ -36,8 +39,14 @@ double DetectionScale(int width, int height, const SiftOptions& options) {
   return static_cast<double>(max_side) / options.max_image_size;
 }
 
+void ValidateSiftOptions(const SiftOptions& o) {
+  if (o.first_octave != -1 && o.first_octave != 0)
+    throw InputError("features.sift.first_octave = " + std::to_string(o.first_octave) + ": must be -1 or 0");
+}
+
 FeatureSet ExtractSift(const cv::Mat& gray, const SiftOptions& options) {
   CV_Assert(gray.type() == CV_8UC1);
+  ValidateSiftOptions(options);
   FeatureSet out;
   out.width = gray.cols;
   out.height = gray.rows;
@@ -53,6 +62,20 @@ FeatureSet ExtractSift(const cv::Mat& gray, const SiftOptions& options) {
     cv::resize(gray, work, cv::Size(w, h), 0, 0, cv::INTER_AREA);
     fx = static_cast<double>(gray.cols) / w;
     fy = static_cast<double>(gray.rows) / h;
+  }
+
+  // OpenCV 4.6 always doubles the image and starts the scale space there (first octave -1).
+  // To start at the image's own resolution instead (first octave 0), it is given the image
+  // halved by 2x2 box averaging: its doubled copy is back on the full grid, and its first
+  // octave approximates the full image's octave 0 (blur ~1.6-1.7 px instead of 1.6: the box,
+  // the bilinear doubling and OpenCV's sqrt(1.6^2 - 1^2) px; frequencies above a quarter
+  // cycle per pixel, which the sigma 1.6 blur suppresses to < 5% anyway, are lost).
+  if (options.first_octave == 0) {
+    cv::Mat half;
+    cv::resize(work, half, cv::Size((work.cols + 1) / 2, (work.rows + 1) / 2), 0, 0, cv::INTER_AREA);
+    work = half;
+    fx = static_cast<double>(gray.cols) / work.cols;
+    fy = static_cast<double>(gray.rows) / work.rows;
   }
 
   cv::Ptr<cv::SIFT> sift =
@@ -100,7 +123,8 @@ FeatureSet ExtractSift(const cv::Mat& gray, const SiftOptions& options) {
 std::string SiftOptionsKey(const SiftOptions& options) {
   std::ostringstream s;
   s << "sift1 n=" << options.max_features << " root=" << options.root_sift << " max=" << options.max_image_size
-    << " c=" << options.contrast_threshold << " e=" << options.edge_threshold;
+    << " c=" << options.contrast_threshold << " e=" << options.edge_threshold
+    << (options.first_octave == -1 ? "" : " o=" + std::to_string(options.first_octave));
   return s.str();
 }
 

@@ -1,6 +1,6 @@
 // The matching stage: workspace features (from `pgba features`) -> verified tracks.
 //   1. pair selection (pair_selection.h),
-//   2. putative matches per pair (descriptor_matcher.h: FLANN, ratio test, mutual check),
+//   2. putative matches per pair (descriptor_matcher.h: cascade hashing, ratio test, mutual check),
 //   3. geometric verification per pair (two_view_verification.h: OpenGV 5-point RANSAC),
 //   4. tracks: union-find over the verified inliers (scene/track_builder.h).
 // The result is the tracks model `pgba init --tracks` reads (points3D at the origin) plus
@@ -25,7 +25,8 @@ struct MatchingOptions {
   DescriptorMatchOptions descriptors;
   VerificationOptions verification;
   TrackBuilderOptions tracks;
-  // Kd-forests held in memory at once (~5 MB each at 8192 features). Pairs are processed in
+  // Search structures held in memory at once (~5 MB each at 8192 features with the
+  // kd-forest, ~0.5 MB of codes with cascade hashing, which shares the descriptors). Pairs are processed in
   // blocks of images so that each forest is built about once per block it appears in.
   int max_indexed_images = 100;
 };
@@ -42,6 +43,10 @@ struct MatchingResult {
   std::vector<std::string> images_without_tracks;
   double seconds = 0.0;           // wall time of the stage
   double seconds_matching = 0.0;  // wall time of descriptor matching + verification
+  // Thread time summed over pairs (excluding building the per-image search structures).
+  double thread_seconds_descriptors = 0.0;
+  double thread_seconds_verification = 0.0;
+  std::string descriptor_method;
 };
 
 // InputError if the workspace has no features (run `pgba features`), fewer than two

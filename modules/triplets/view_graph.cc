@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <map>
 #include <set>
 
 #include "modules/matching/opengv_rng.h"
@@ -88,6 +89,32 @@ PairOutcome EstimatePair(const TrackIndex& index, const Candidate& c, const Pair
   return PairOutcome::kKept;
 }
 
+// A pair the front end verified: its geometry, with the shared-track count of these tracks.
+PairOutcome ReusePair(const TwoViewGeometry& verified, const Candidate& c, const PairOptions& o, TwoViewGeometry* g) {
+  *g = verified;
+  g->num_tracks = c.shared;
+  if (g->num_inliers < o.min_inliers) return PairOutcome::kFewInliers;
+  if (g->median_triangulation_angle_deg < o.min_triangulation_angle_deg) return PairOutcome::kSmallAngle;
+  return PairOutcome::kKept;
+}
+
+// The front end's geometries by pair key, oriented as image_id1 < image_id2.
+std::map<uint64_t, TwoViewGeometry> ByPairKey(const std::vector<TwoViewGeometry>& geometries) {
+  std::map<uint64_t, TwoViewGeometry> out;
+  for (TwoViewGeometry g : geometries) {
+    if (g.image_id1 > g.image_id2) {
+      // x_1 = R_21^T x_2 - R_21^T t_21: the inverse motion, its translation renormalised.
+      const Eigen::Matrix3d R_12 = g.R_21.transpose();
+      const Eigen::Vector3d t_12 = -(R_12 * g.t_21);
+      std::swap(g.image_id1, g.image_id2);
+      g.R_21 = R_12;
+      g.t_21 = t_12.normalized();
+    }
+    out[PairKey(g.image_id1, g.image_id2)] = g;
+  }
+  return out;
+}
+
 }  // namespace
 
 nlohmann::json ToJson(const PairStats& s) {
@@ -96,6 +123,7 @@ nlohmann::json ToJson(const PairStats& s) {
           {"pairs_few_shared", s.pairs_few_shared},
           {"pairs_capped", s.pairs_capped},
           {"pairs_estimated", s.pairs_estimated},
+          {"pairs_reused", s.pairs_reused},
           {"rejected_no_model", s.rejected_no_model},
           {"rejected_few_inliers", s.rejected_few_inliers},
           {"rejected_small_angle", s.rejected_small_angle},
@@ -105,7 +133,7 @@ nlohmann::json ToJson(const PairStats& s) {
 }
 
 std::vector<TwoViewGeometry> EstimatePairs(const Reconstruction& tracks, const PairOptions& options,
-                                           PairStats* stats_out) {
+                                           PairStats* stats_out, const std::vector<TwoViewGeometry>* front_end) {
   Timer timer;
   PairStats stats;
   const TrackIndex index(tracks);
@@ -114,6 +142,7 @@ std::vector<TwoViewGeometry> EstimatePairs(const Reconstruction& tracks, const P
   stats.pairs_sharing_tracks = static_cast<int>(counts.size());
   const std::vector<Candidate> candidates = SelectCandidates(counts, options, &stats);
   stats.pairs_estimated = static_cast<int>(candidates.size());
+  const std::map<uint64_t, TwoViewGeometry> verified = front_end ? ByPairKey(*front_end) : decltype(verified){};
 
   // Each pair writes its own slot: the result is independent of the scheduling.
   std::vector<TwoViewGeometry> geometries(candidates.size());
@@ -121,7 +150,9 @@ std::vector<TwoViewGeometry> EstimatePairs(const Reconstruction& tracks, const P
   ProgressBar progress("pairs", candidates.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, candidates.size(), 4), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
-      outcomes[i] = EstimatePair(index, candidates[i], options, &geometries[i]);
+      const auto it = verified.find(PairKey(candidates[i].id1, candidates[i].id2));
+      outcomes[i] = it != verified.end() ? ReusePair(it->second, candidates[i], options, &geometries[i])
+                                         : EstimatePair(index, candidates[i], options, &geometries[i]);
       progress.Increment();
     }
   });
@@ -130,6 +161,7 @@ std::vector<TwoViewGeometry> EstimatePairs(const Reconstruction& tracks, const P
   std::vector<TwoViewGeometry> kept;
   std::set<uint32_t> images;
   for (size_t i = 0; i < candidates.size(); ++i) {
+    stats.pairs_reused += verified.count(PairKey(candidates[i].id1, candidates[i].id2)) > 0;
     switch (outcomes[i]) {
       case PairOutcome::kKept:
         kept.push_back(geometries[i]);

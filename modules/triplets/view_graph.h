@@ -40,6 +40,7 @@ struct PairStats {
   int pairs_few_shared = 0;       // below min_shared_tracks
   int pairs_capped = 0;           // dropped by max_pairs_per_image
   int pairs_estimated = 0;
+  int pairs_reused = 0;           // of the estimated: the front end's verified geometry taken as is
   int rejected_no_model = 0;      // RANSAC found no model
   int rejected_few_inliers = 0;   // below min_inliers / min_inlier_ratio
   int rejected_small_angle = 0;   // median triangulation angle below the threshold
@@ -52,7 +53,14 @@ nlohmann::json ToJson(const PairStats& stats);
 // Verified pairs of the tracks model, sorted by (image_id1, image_id2), image_id1 <
 // image_id2. Parallel over pairs (TBB); the result does not depend on the thread count.
 // Throws InputError for inconsistent tracks.
+//
+// `front_end`: the image front end's verified two-view geometries (match_images.h), or
+// null. A candidate pair the front end verified keeps that geometry (its 5-point RANSAC
+// ran on all the pair's matches, with the pose-uncertainty check) instead of a second
+// estimation from the shared tracks; only the triangulation-angle test applies to it.
+// Candidates it did not verify (linked only through tracks) are estimated as without it.
 std::vector<TwoViewGeometry> EstimatePairs(const Reconstruction& tracks, const PairOptions& options,
-                                           PairStats* stats = nullptr);
+                                           PairStats* stats = nullptr,
+                                           const std::vector<TwoViewGeometry>* front_end = nullptr);
 
 }  // namespace pgba

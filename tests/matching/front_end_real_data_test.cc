@@ -11,6 +11,7 @@
 #include "pgba/geometry/rotation.h"
 #include "pgba/io/colmap_text.h"
 #include "pgba/util/timer.h"
+#include "triplets/view_graph.h"
 
 namespace pgba {
 namespace {
@@ -63,6 +64,31 @@ TEST_P(FrontEndRealData, VerifiedRelativeRotationsMatchGroundTruth) {
             << " s, matching " << t_matching << " s" << std::endl;
   EXPECT_LT(median, 1.0);
   EXPECT_LE(above_5deg, errors.size() / 10);  // gross failures are rare
+
+  // The triplet stage's view graph reuses the front end's geometries instead of estimating
+  // the pairs again from the tracks: every candidate pair the front end verified is taken
+  // as is, and the resulting rotations are as close to the ground truth as re-estimated ones.
+  auto median_error = [&](const std::vector<TwoViewGeometry>& pairs) {
+    std::vector<double> e;
+    for (const TwoViewGeometry& g : pairs) {
+      const Image& a = gt.images.at(*gt.FindImageByName(mr.tracks.images.at(g.image_id1).name));
+      const Image& b = gt.images.at(*gt.FindImageByName(mr.tracks.images.at(g.image_id2).name));
+      e.push_back(RotationAngleDeg(g.R_21, b.pose.R() * a.pose.R().transpose()));
+    }
+    std::sort(e.begin(), e.end());
+    return e.empty() ? 1e9 : e[e.size() / 2];
+  };
+  PairStats estimated_stats, reused_stats;
+  const auto estimated = EstimatePairs(mr.tracks, PairOptions{}, &estimated_stats);
+  const auto reused = EstimatePairs(mr.tracks, PairOptions{}, &reused_stats, &mr.two_view_geometries);
+  EXPECT_EQ(estimated_stats.pairs_reused, 0);
+  EXPECT_GE(static_cast<size_t>(reused_stats.pairs_reused), mr.two_view_geometries.size() * 9 / 10);
+  std::cout << c.dataset << ": view graph re-estimated " << estimated.size() << " pairs in " << estimated_stats.seconds
+            << " s, median rotation error " << median_error(estimated) << " deg; reused " << reused.size() << " ("
+            << reused_stats.pairs_reused << " from the front end) in " << reused_stats.seconds << " s, "
+            << median_error(reused) << " deg" << std::endl;
+  EXPECT_GE(reused.size(), estimated.size() * 9 / 10);
+  EXPECT_LE(median_error(reused), 1.1 * median_error(estimated));
 
   // The tracks model is consistent and no track holds two features of one image.
   EXPECT_EQ(mr.tracks.CheckConsistency(), "");

@@ -1,0 +1,91 @@
+#!/usr/bin/env bash
+# Front-end speed and accuracy, variants of pgba side by side in one run (the same moment of
+# a shared machine, so their ratios are meaningful even when absolute times are not):
+#   before   the front end of main 25ebad3: FLANN kd-forest (4 trees, 32 checks), no
+#            buffer reuse between images (features.reuse_buffers false)
+#   kdtree   today's defaults but the kd-forest instead of cascade hashing
+#   default  today's defaults (buffer reuse, cascade hashing)
+#   octave0  defaults + features.sift.first_octave 0 (no upsampled octave: faster, fewer
+#            fine-scale keypoints; its accuracy cost is what this measures)
+# Each variant runs `pgba run --gt` from scratch (no feature cache); the variants of one
+# dataset run back to back, in the order given, then again in reverse (REPEAT=2, default) and
+# the times are averaged, so a load change on the machine hits every variant alike.
+# Prints one table: s per image and per megapixel for features, ms per pair for matching
+# (wall time over pairs, and the thread time of descriptor matching and verification per
+# pair), verified pairs and inliers, total time, and the rotation errors against the
+# ground truth.
+#
+# A variant whose run fails (e.g. no triplet on a weakly textured ring) is reported with 0
+# registered images and the error; the table still shows its front-end numbers.
+#
+# Usage: bench/front_end_speed.sh [DATASET_DIR ...]  (default: fountain_p11 herzjesu_p8 entry_p10)
+# Environment: PGBA=path/to/pgba (default: newest build*/bin/pgba), VARIANTS="before default"
+#   (default: before default octave0), REPEAT=1|2, PGBA_BASE=path/to/another/pgba adds a
+#   variant "base" run with that binary and the default config (for example a build of main).
+set -euo pipefail
+here=$(cd "$(dirname "$0")/.." && pwd)
+shared=$(cd "$here/.." && pwd)/shared
+if [[ -z "${PGBA:-}" ]]; then PGBA=$(ls -t "$here"/build*/bin/pgba 2>/dev/null | head -1 || true); fi
+[[ -x "${PGBA:-}" ]] || { echo "error: pgba binary not found; build it or set PGBA=" >&2; exit 2; }
+if [[ $# -eq 0 ]]; then
+  set -- "$shared/datasets/fountain_p11" "$shared/datasets/herzjesu_p8" "$shared/datasets/entry_p10"
+fi
+read -r -a variants <<<"${VARIANTS:-before default octave0}"
+[[ -n "${PGBA_BASE:-}" ]] && variants=(base "${variants[@]}")
+repeat=${REPEAT:-2}
+tmp=$(mktemp -d /tmp/pgba_front_speed_XXXX)
+trap 'rm -rf "$tmp"' EXIT
+echo '{"matching": {"descriptors": {"method": "kdtree"}}}' >"$tmp/kdtree.json"
+echo '{"features": {"reuse_buffers": false}, "matching": {"descriptors": {"method": "kdtree"}}}' >"$tmp/before.json"
+echo '{}' >"$tmp/default.json"
+echo '{"features": {"sift": {"first_octave": 0}}}' >"$tmp/octave0.json"
+cp "$tmp/default.json" "$tmp/base.json"
+
+run_variant() {  # DATASET VARIANT ROUND
+  local ds=$1 v=$2 round=$3 bin=$PGBA
+  [[ $v == base ]] && bin=$PGBA_BASE
+  [[ -f "$tmp/$v.json" ]] || { echo "error: unknown variant '$v' (before, kdtree, default, octave0)" >&2; exit 2; }
+  local out="$tmp/$(basename "$ds")_${v}_$round"
+  "$bin" -v 0 run --images "$ds/images" --calib "$ds/cameras.txt" --gt "$ds/gt" --config "$tmp/$v.json" \
+    --out "$out" >"$out.log" 2>&1 || { echo "warning: $v on $(basename "$ds") failed: $(grep -m1 error "$out.log")" >&2; }
+}
+
+for ds in "$@"; do
+  [[ -d "$ds/images" && -f "$ds/cameras.txt" && -d "$ds/gt" ]] || { echo "error: $ds: needs images/, cameras.txt, gt/" >&2; exit 2; }
+  order=("${variants[@]}")
+  for ((r = 1; r <= repeat; r++)); do
+    for v in "${order[@]}"; do run_variant "$ds" "$v" "$r"; done
+    reversed=(); for ((i = ${#order[@]} - 1; i >= 0; i--)); do reversed+=("${order[i]}"); done; order=("${reversed[@]}")
+  done
+done
+
+echo "Front end on $(nproc) cores, load average at the end: $(cut -d' ' -f1-3 /proc/loadavg); times averaged over $repeat run(s)"
+echo
+python3 - "$tmp" "$repeat" "${variants[@]}" -- "$@" <<'PY'
+import json, os, sys
+tmp, repeat = sys.argv[1], int(sys.argv[2])
+sep = sys.argv.index("--")
+variants, datasets = sys.argv[3:sep], sys.argv[sep + 1:]
+print("dataset | variant | s/image features | s/MP features | ms/pair matching (wall) | ms/pair descriptors (thread) "
+      "| ms/pair verification (thread) | verified pairs | verified matches | total s | registered | rot err median deg | rot err max deg")
+print("|".join(["---"] * 13))
+for ds in datasets:
+    name = os.path.basename(ds.rstrip("/"))
+    for v in variants:
+        reps = [json.load(open(f"{tmp}/{name}_{v}_{r}/report.json")) for r in range(1, repeat + 1)]
+        failed = [x.get("error", "failed") for x in reps if x.get("status") != "ok"]
+        mean = lambda f: sum(f(x) for x in reps) / len(reps)
+        st = lambda x: x["stages"]
+        f0, m0, e0 = st(reps[0])["features"], st(reps[0])["match"], reps[0].get("evaluation", {})
+        if failed:
+            e0 = {"images_registered": f"0 ({failed[0][:60]})"}
+        total = mean(lambda x: sum(s.get("seconds", 0) for s in st(x).values() if isinstance(s, dict)))
+        print(f"{name} | {v} | {mean(lambda x: st(x)['features']['seconds']) / f0['images']:.2f} | "
+              f"{mean(lambda x: st(x)['features']['seconds_per_megapixel']):.3f} | "
+              f"{1000 * mean(lambda x: st(x)['match']['seconds_per_pair']):.1f} | "
+              f"{1000 * mean(lambda x: st(x)['match'].get('thread_seconds_per_pair_descriptors', float('nan'))):.1f} | "
+              f"{1000 * mean(lambda x: st(x)['match'].get('thread_seconds_per_pair_verification', float('nan'))):.1f} | "
+              f"{m0['pairs_verified']}/{m0['pairs']} | {m0['verified_matches']} | {total:.1f} | "
+              f"{e0.get('images_registered', '?')}/{f0['images']} | {e0.get('rot_err_deg_median', float('nan')):.4f} | "
+              f"{e0.get('rot_err_deg_max', float('nan')):.4f}")
+PY

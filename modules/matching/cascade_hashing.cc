@@ -1,0 +1,200 @@
+#include "matching/cascade_hashing.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "features/feature_set.h"
+#include "pgba/util/error.h"
+
+namespace pgba {
+namespace {
+
+constexpr int kCodeBits = 128;  // long code: two 64-bit words
+// Fixed-point scales: centred descriptors x - mean in 1/8 units and projections in 1/256
+// units fit int16 and their 128-term dot products int32, so codes are exact integers.
+constexpr double kDescriptorScale = 8.0;
+constexpr double kProjectionScale = 256.0;
+
+// Hot loops are compiled twice, for AVX2 machines and for any x86-64, and the loader picks
+// (GCC function multi-versioning); the integer results are the same either way.
+#if defined(__GNUC__) && defined(__x86_64__) && !defined(__clang__)
+#define PGBA_SIMD_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define PGBA_SIMD_CLONES
+#endif
+
+inline int SquaredL2(const uint8_t* a, const uint8_t* b) {
+  int s = 0;
+  for (int k = 0; k < kSiftDescriptorSize; ++k) {
+    const int d = int(a[k]) - int(b[k]);
+    s += d * d;
+  }
+  return s;
+}
+
+inline int HammingDistance(const uint64_t* a, const uint64_t* b) {
+  return __builtin_popcountll(a[0] ^ b[0]) + __builtin_popcountll(a[1] ^ b[1]);
+}
+
+// Signs of every projection of every centred descriptor: bit k of row i is set when
+// projection k of descriptor i is positive.
+PGBA_SIMD_CLONES
+void ProjectionSigns(const cv::Mat& descriptors, const std::vector<int16_t>& mean, const std::vector<int16_t>& proj,
+                     int num_proj, std::vector<uint8_t>* signs) {
+  signs->assign(static_cast<size_t>(descriptors.rows) * num_proj, 0);
+  int16_t centred[kSiftDescriptorSize];
+  for (int i = 0; i < descriptors.rows; ++i) {
+    const uint8_t* d = descriptors.ptr<uint8_t>(i);
+    for (int k = 0; k < kSiftDescriptorSize; ++k)
+      centred[k] = static_cast<int16_t>(int(d[k]) * int(kDescriptorScale) - mean[k]);
+    for (int p = 0; p < num_proj; ++p) {
+      const int16_t* w = &proj[static_cast<size_t>(p) * kSiftDescriptorSize];
+      int dot = 0;
+      for (int k = 0; k < kSiftDescriptorSize; ++k) dot += int(centred[k]) * int(w[k]);
+      (*signs)[static_cast<size_t>(i) * num_proj + p] = dot > 0;
+    }
+  }
+}
+
+}  // namespace
+
+void ValidateCascadeHashingOptions(const CascadeHashingOptions& o) {
+  auto check = [](bool ok, const std::string& name, const std::string& range, double value) {
+    if (!ok) throw InputError("matching.descriptors.cascade_hashing." + name + " = " + std::to_string(value) +
+                              ": must be " + range);
+  };
+  check(o.num_tables >= 1 && o.num_tables <= 32, "num_tables", "in [1, 32]", o.num_tables);
+  check(o.bits_per_bucket >= 1 && o.bits_per_bucket <= 16, "bits_per_bucket", "in [1, 16]", o.bits_per_bucket);
+  check(o.target_bucket_size >= 1, "target_bucket_size", ">= 1", o.target_bucket_size);
+  check(o.num_reranked >= 2 && o.num_reranked <= 1000, "num_reranked", "in [2, 1000]", o.num_reranked);
+}
+
+CascadeHasher::CascadeHasher(const cv::Mat& mean_descriptor, const CascadeHashingOptions& options, uint64_t seed)
+    : options_(options), mean_(mean_descriptor.clone()) {
+  ValidateCascadeHashingOptions(options);
+  CV_Assert(mean_.type() == CV_32F && mean_.rows == 1 && mean_.cols == kSiftDescriptorSize);
+  projections_.create(kCodeBits + options.num_tables * options.bits_per_bucket, kSiftDescriptorSize, CV_32F);
+  cv::RNG rng(seed);
+  rng.fill(projections_, cv::RNG::NORMAL, 0.0, 1.0);
+}
+
+cv::Mat MeanDescriptor(const std::vector<cv::Mat>& descriptors_u8) {
+  std::vector<int64_t> sum(kSiftDescriptorSize, 0);
+  int64_t n = 0;
+  for (const cv::Mat& d : descriptors_u8) {
+    for (int i = 0; i < d.rows; ++i)
+      for (int k = 0; k < kSiftDescriptorSize; ++k) sum[k] += d.at<uint8_t>(i, k);
+    n += d.rows;
+  }
+  cv::Mat mean(1, kSiftDescriptorSize, CV_32F, cv::Scalar(0));
+  for (int k = 0; k < kSiftDescriptorSize; ++k)
+    if (n > 0) mean.at<float>(0, k) = static_cast<float>(static_cast<double>(sum[k]) / n);
+  return mean;
+}
+
+HashedDescriptors::HashedDescriptors(const cv::Mat& descriptors_u8, const CascadeHasher& hasher)
+    : descriptors_(descriptors_u8) {
+  CV_Assert(descriptors_.type() == CV_8U && (descriptors_.empty() || descriptors_.cols == kSiftDescriptorSize));
+  const CascadeHashingOptions& o = hasher.options();
+  num_tables_ = o.num_tables;
+  num_reranked_ = o.num_reranked;
+  const int n = descriptors_.rows;
+  int bits = 0;
+  while (bits < o.bits_per_bucket && (static_cast<int64_t>(o.target_bucket_size) << (bits + 1)) <= n) ++bits;
+  num_buckets_ = 1 << bits;
+  const int num_proj = hasher.projections().rows;
+
+  std::vector<int16_t> mean(kSiftDescriptorSize), proj(static_cast<size_t>(num_proj) * kSiftDescriptorSize);
+  for (int k = 0; k < kSiftDescriptorSize; ++k)
+    mean[k] = static_cast<int16_t>(std::lround(hasher.mean().at<float>(0, k) * kDescriptorScale));
+  for (int p = 0; p < num_proj; ++p)
+    for (int k = 0; k < kSiftDescriptorSize; ++k)
+      proj[static_cast<size_t>(p) * kSiftDescriptorSize + k] = static_cast<int16_t>(
+          std::clamp(std::lround(hasher.projections().at<float>(p, k) * kProjectionScale), -32767L, 32767L));
+  std::vector<uint8_t> signs;
+  ProjectionSigns(descriptors_, mean, proj, num_proj, &signs);
+
+  codes_.assign(2 * static_cast<size_t>(n), 0);
+  bucket_of_.assign(static_cast<size_t>(n) * num_tables_, 0);
+  for (int i = 0; i < n; ++i) {
+    const uint8_t* s = &signs[static_cast<size_t>(i) * num_proj];
+    for (int k = 0; k < kCodeBits; ++k)
+      if (s[k]) codes_[2 * i + k / 64] |= uint64_t(1) << (k % 64);
+    for (int t = 0; t < num_tables_; ++t) {
+      int key = 0;
+      for (int b = 0; b < o.bits_per_bucket; ++b)
+        if (s[kCodeBits + t * o.bits_per_bucket + b]) key |= 1 << b;
+      bucket_of_[static_cast<size_t>(i) * num_tables_ + t] = static_cast<uint16_t>(key);
+    }
+  }
+  // Bucket lists in CSR form, members in increasing index order.
+  bucket_start_.assign(static_cast<size_t>(num_tables_) * (num_buckets_ + 1), 0);
+  bucket_members_.assign(static_cast<size_t>(num_tables_) * n, 0);
+  for (int t = 0; t < num_tables_; ++t) {
+    int* start = &bucket_start_[static_cast<size_t>(t) * (num_buckets_ + 1)];
+    const int mask = num_buckets_ - 1;
+    for (int i = 0; i < n; ++i) ++start[(bucket_of_[static_cast<size_t>(i) * num_tables_ + t] & mask) + 1];
+    for (int b = 0; b < num_buckets_; ++b) start[b + 1] += start[b];
+    std::vector<int> fill(start, start + num_buckets_);
+    int* members = &bucket_members_[static_cast<size_t>(t) * n];
+    for (int i = 0; i < n; ++i) members[fill[bucket_of_[static_cast<size_t>(i) * num_tables_ + t] & mask]++] = i;
+  }
+}
+
+PGBA_SIMD_CLONES
+void HashedDescriptors::SearchBestTwo(const HashedDescriptors& queries, const std::vector<int>* rows,
+                                      std::vector<int>* best, std::vector<float>* best_dist,
+                                      std::vector<float>* second_dist) const {
+  CV_Assert(queries.num_tables_ == num_tables_);
+  const int mask = num_buckets_ - 1;  // the query's code cut to this image's length
+  const int num_queries = rows ? static_cast<int>(rows->size()) : queries.size();
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  best->assign(num_queries, -1);
+  best_dist->assign(num_queries, kInf);
+  second_dist->assign(num_queries, kInf);
+  const int n = size();
+  // seen[j] == q + 1 once candidate j was collected for query q (no clearing per query).
+  std::vector<int> seen(n, 0);
+  // Candidates as (Hamming distance << 32 | index): sorting them ranks by distance, ties by index.
+  std::vector<uint64_t> candidates;
+  candidates.reserve(static_cast<size_t>(num_tables_) * 64);
+  for (int q = 0; q < num_queries; ++q) {
+    const int i = rows ? (*rows)[q] : q;
+    const uint64_t* code = &queries.codes_[2 * static_cast<size_t>(i)];
+    candidates.clear();
+    for (int t = 0; t < num_tables_; ++t) {
+      const int key = queries.bucket_of_[static_cast<size_t>(i) * num_tables_ + t] & mask;
+      const int* start = &bucket_start_[static_cast<size_t>(t) * (num_buckets_ + 1)];
+      const int* members = &bucket_members_[static_cast<size_t>(t) * n];
+      for (int m = start[key]; m < start[key + 1]; ++m) {
+        const int j = members[m];
+        if (seen[j] == q + 1) continue;
+        seen[j] = q + 1;
+        candidates.push_back(uint64_t(HammingDistance(code, &codes_[2 * static_cast<size_t>(j)])) << 32 |
+                             uint32_t(j));
+      }
+    }
+    const size_t k = std::min<size_t>(num_reranked_, candidates.size());
+    std::nth_element(candidates.begin(), candidates.begin() + k, candidates.end());
+    int d1 = std::numeric_limits<int>::max(), d2 = d1, j1 = -1;
+    const uint8_t* qd = queries.descriptors_.ptr<uint8_t>(i);
+    for (size_t c = 0; c < k; ++c) {
+      const int j = static_cast<int>(candidates[c] & 0xffffffffu);
+      const int d = SquaredL2(qd, descriptors_.ptr<uint8_t>(j));
+      if (d < d1 || (d == d1 && j < j1)) {
+        d2 = d1;
+        d1 = d;
+        j1 = j;
+      } else if (d < d2) {
+        d2 = d;
+      }
+    }
+    (*best)[q] = j1;
+    if (j1 >= 0) (*best_dist)[q] = std::sqrt(static_cast<float>(d1));
+    if (k >= 2) (*second_dist)[q] = std::sqrt(static_cast<float>(d2));
+  }
+}
+
+}  // namespace pgba
