@@ -27,6 +27,7 @@ class Cursor {
  public:
   Cursor(const std::string& bytes, const std::string& path) : bytes_(bytes), path_(path) {}
   void Read(void* out, size_t n) {
+    if (n == 0) return;  // `out` may be the null data() of an empty vector (memcpy's UB)
     if (n > bytes_.size() - pos_) ThrowInputError(path_, 0, "truncated feature file");
     std::memcpy(out, bytes_.data() + pos_, n);
     pos_ += n;
