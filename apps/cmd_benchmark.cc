@@ -11,6 +11,7 @@
 #include <string>
 
 #include "apps/commands.h"
+#include "apps/output_dir.h"
 #include "benchmark/benchmark.h"
 #include "mapper/run_pipeline.h"
 #include "pgba/io/colmap_text.h"
@@ -63,6 +64,8 @@ void RegisterBenchmark(CLI::App& app) {
     std::vector<LoopCorrespondence> loops;
     if (!args->loop.empty()) loops = ReadLoopPairs(args->loop);
 
+    PrepareOutputDir(args->out);
+    fs::remove(fs::path(args->out) / "benchmark.json");  // a failed run must not leave an earlier result
     Report report;
     const GlobalMapperResult init = RunGlobalMapper(tracks, options.mapper, &report);
     const BenchmarkResult result = RunBenchmark(tracks, init, args->gt.empty() ? nullptr : &gt,

@@ -11,6 +11,7 @@
 #include "pgba/io/colmap_text.h"
 #include "pgba/io/loop_pairs.h"
 #include "pgba/util/atomic_file.h"
+#include "pgba/util/error.h"
 #include "pgba/util/logging.h"
 
 namespace pgba::app {
@@ -48,6 +49,9 @@ void RegisterEvaluate(CLI::App& app) {
         Evaluate(model, obs, args->gt.empty() ? nullptr : &gt, args->loop.empty() ? nullptr : &loops, options);
     if (metrics.images_registered == 0)
       PGBA_LOG_WARN << "no image of " << args->obs << " is in " << args->model << " (images are matched by name)";
+    // Errors "computed" over no image at all would read as a perfect score.
+    if (metrics.ground_truth && metrics.ground_truth->num_common == 0)
+      ThrowInputError(args->gt, 0, "no image in common with " + args->model + " (images are matched by name)");
     metrics.PrintTable(std::cout);
     if (!args->json.empty()) WriteStringAtomically(args->json, metrics.ToJson().dump(2) + "\n");
     return 0;

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "apps/commands.h"
+#include "apps/output_dir.h"
 #include "mapper/global_mapper.h"
 #include "mapper/run_pipeline.h"
 #include "pgba/io/colmap_database.h"
@@ -48,6 +49,8 @@ void RegisterInit(CLI::App& app) {
                                       ? ReadColmapText(args->tracks)
                                       : TracksFromColmapDatabase(ReadColmapDatabase(args->database),
                                                                  TrackBuilderOptions{}, nullptr, args->database);
+    PrepareOutputDir(args->out);
+    RemovePreviousResults(args->out);
     Report report;
     report["command"] = "init";
     if (args->database.empty())
@@ -56,6 +59,9 @@ void RegisterInit(CLI::App& app) {
       report["database"] = args->database;
     const GlobalMapperResult result = RunGlobalMapper(tracks, options, &report);
     WriteGlobalMapperWorkspace(args->out, tracks, result);
+    ReconstructionOptions fingerprinted;
+    fingerprinted.mapper = options;
+    WriteWorkspaceFingerprint(args->out, FingerprintOf(tracks, fingerprinted, /*with_hessians=*/false));
     report.Write((std::filesystem::path(args->out) / "report.json").string());
     PGBA_LOG_INFO << "wrote " << args->out << "/{pairs.json, triplets.json, init/, report.json}";
     return 0;

@@ -11,9 +11,12 @@
 #include <string>
 
 #include "apps/commands.h"
+#include "apps/output_dir.h"
+#include "local_hessian/local_hessian_io.h"
 #include "mapper/run_pipeline.h"
 #include "pgba/io/colmap_text.h"
 #include "pgba/io/gcp_file.h"
+#include "pgba/io/workspace_fingerprint.h"
 #include "pgba/util/logging.h"
 
 namespace pgba::app {
@@ -34,20 +37,36 @@ void RegisterReconstruct(CLI::App& app) {
   sub->add_option("--gcp", args->gcp, "Ground control points (GCP/OBS lines): the result is put in their frame");
 
   AddCommand(app, sub, [args] {
+    namespace fs = std::filesystem;
     ReconstructionOptions options = LoadRunOptions(args->config).reconstruction;
     options.gcp_path = args->gcp;
     if (!args->gcp.empty()) ReadGcpFile(args->gcp);  // a malformed file fails before any work
     const Reconstruction tracks = ReadColmapText(args->tracks);
+    if (!args->workspace.empty())
+      CheckWorkspaceFingerprint(args->workspace,
+                                FingerprintOf(tracks, options, fs::exists(WorkspaceLocalHessiansPath(args->workspace))));
+    PrepareOutputDir(args->out);
+    RemovePreviousResults(args->out);
     Report report;
     report["command"] = "reconstruct";
     report["tracks"] = args->tracks;
-    const ReconstructionOutput result = args->workspace.empty()
-                                            ? Reconstruct(tracks, options, &report)
-                                            : ReconstructFromWorkspace(tracks, args->workspace, options, &report);
-    WriteReconstruction(args->out, tracks, result);
-    report.Write((std::filesystem::path(args->out) / "report.json").string());
-    PGBA_LOG_INFO << "wrote " << args->out << "/{sparse/, points.ply, report.json}: " << result.refined.poses.size()
-                  << " / " << tracks.images.size() << " images, " << result.model.points3D.size() << " points";
+    const std::string report_path = (fs::path(args->out) / "report.json").string();
+    try {
+      const ReconstructionOutput result = args->workspace.empty()
+                                              ? Reconstruct(tracks, options, &report)
+                                              : ReconstructFromWorkspace(tracks, args->workspace, options, &report);
+      WriteReconstruction(args->out, tracks, result);
+      WriteWorkspaceFingerprint(args->out, FingerprintOf(tracks, options, /*with_hessians=*/true));
+      report["status"] = "ok";
+      report.Write(report_path);
+      PGBA_LOG_INFO << "wrote " << args->out << "/{sparse/, points.ply, report.json}: " << result.refined.poses.size()
+                    << " / " << tracks.images.size() << " images, " << result.model.points3D.size() << " points";
+    } catch (const std::exception& e) {
+      report["status"] = "failed";
+      report["error"] = e.what();
+      report.Write(report_path);
+      throw;
+    }
     return 0;
   });
 }

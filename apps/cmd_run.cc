@@ -12,6 +12,7 @@
 #include <string>
 
 #include "apps/commands.h"
+#include "apps/output_dir.h"
 #include "benchmark/html_report.h"
 #include "mapper/run_pipeline.h"
 #include "pgba/io/colmap_text.h"
@@ -44,8 +45,8 @@ void RegisterRun(CLI::App& app) {
     Reconstruction gt;
     if (!args->gt.empty()) gt = ReadColmapText(args->gt, /*points_optional=*/true);
     const fs::path out(args->out);
-    fs::create_directories(out);
-    fs::remove(out / "report.html");  // never leave an earlier run's page beside a new run's outputs
+    PrepareOutputDir(args->out);
+    RemovePreviousResults(args->out);  // never leave an earlier run's result beside a failed run
     SetLogFile((out / "log.txt").string());
     Report report;
     report["command"] = "run";
@@ -54,13 +55,14 @@ void RegisterRun(CLI::App& app) {
     RunOutput result;
     try {
       result = RunPipeline(args->images, args->calib, args->out, options, &report);
-    } catch (const InputError& e) {
+    } catch (const std::exception& e) {
       report["status"] = "failed";
       report["error"] = e.what();
       report.Write((out / "report.json").string());
       throw;
     }
     const ReconstructionOutput& rec = result.reconstruction;
+    WriteWorkspaceFingerprint(out, FingerprintOf(result.tracks, options.reconstruction, /*with_hessians=*/true));
     EvaluationMetrics metrics = Evaluate(rec.model, result.tracks, args->gt.empty() ? nullptr : &gt, nullptr);
     report["evaluation"] = metrics.ToJson();
     report["status"] = "ok";

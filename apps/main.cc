@@ -1,5 +1,9 @@
 // pgba: pointless global bundle adjustment, from tracks or images to poses.
+#include <tbb/global_control.h>
+
 #include <iostream>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include "apps/commands.h"
@@ -24,6 +28,17 @@ void AddCalibrationOptions(CLI::App* sub, pgba::CalibrationInput* calib) {
                   "Lines IMAGE_NAME CAMERA_ID, needed when the calibration has several cameras");
 }
 
+// The first word that is not a global option or its value: the subcommand the user meant.
+// CLI11 reports an unknown one as "arguments were not expected", not naming it as a command.
+std::string RequestedCommand(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg.empty() || arg[0] != '-') return arg;
+    if (arg == "-v" || arg == "--verbosity" || arg == "--threads") ++i;  // their value
+  }
+  return "";
+}
+
 }  // namespace pgba::app
 
 int main(int argc, char** argv) {
@@ -31,7 +46,12 @@ int main(int argc, char** argv) {
   CLI::App app{"pgba: Structure-from-Motion with pointless global bundle adjustment"};
   app.require_subcommand(1);
   int verbosity = 1;
-  app.add_option("-v,--verbosity", verbosity, "0 quiet, 1 info (default), 2 debug");
+  app.add_option("-v,--verbosity", verbosity, "0 quiet, 1 info (default), 2 debug")->check(CLI::Range(0, 2));
+  int threads = 0;
+  app.add_option("--threads", threads,
+                 "Worker threads of every parallel stage (0 = all cores). Results do not depend on it: the same "
+                 "input gives the same bytes with any thread count")
+      ->check(CLI::Range(0, 4096));
   app::RegisterSynth(app);
   app::RegisterEvaluate(app);
   app::RegisterInit(app);
@@ -41,6 +61,17 @@ int main(int argc, char** argv) {
   app::RegisterBenchmark(app);
   app::RegisterRun(app);
   app::RegisterConvert(app);
+  const std::string command = app::RequestedCommand(argc, argv);
+  std::string known;
+  bool is_command = false;
+  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) {
+    known += (known.empty() ? "" : ", ") + sub->get_name();
+    is_command = is_command || sub->get_name() == command;
+  }
+  if (!command.empty() && !is_command) {
+    std::cerr << "error: unknown command '" << command << "' (commands: " << known << "; see --help)" << std::endl;
+    return kInputErrorExitCode;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -49,6 +80,10 @@ int main(int argc, char** argv) {
     return kInputErrorExitCode;
   }
   SetLogVerbosity(verbosity);
+  // One limit for TBB (every parallel loop, and OpenCV, which Debian builds on TBB).
+  std::unique_ptr<tbb::global_control> thread_limit;
+  if (threads > 0)
+    thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
   try {
     for (auto& [sub, run] : app::Runners())
       if (sub->parsed()) return run();

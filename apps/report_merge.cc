@@ -1,9 +1,9 @@
 #include "apps/report_merge.h"
 
 #include <filesystem>
-#include <fstream>
 
 #include "pgba/util/atomic_file.h"
+#include "pgba/util/input_file.h"
 #include "pgba/util/logging.h"
 
 namespace pgba::app {
@@ -11,8 +11,7 @@ namespace pgba::app {
 void MergeStageIntoReport(const std::string& report_path, const std::string& stage, const nlohmann::json& record) {
   nlohmann::json report = nlohmann::json::object();
   if (std::filesystem::exists(report_path)) {
-    std::ifstream in(report_path);
-    report = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+    report = nlohmann::json::parse(ReadRegularFile(report_path), nullptr, /*allow_exceptions=*/false);
     if (report.is_discarded() || !report.is_object()) {
       PGBA_LOG_WARN << report_path << ": not a JSON object; rewriting it";
       report = nlohmann::json::object();

@@ -10,7 +10,10 @@
 //   float32  n x 4 keypoints (x, y, scale, orientation)
 //   uint8    n x d descriptors
 //   char[4]  "END."
-// Files are written atomically (temporary + rename), so a killed run leaves no half file.
+//   uint64   FNV-1a 64 of every byte before it (util/checksum.h)
+// Files are written atomically (temporary + rename), so a killed run leaves no half file;
+// the checksum catches the damage that keeps the size (a flipped bit), which the header and
+// trailer checks alone let through as silently wrong keypoints or descriptors.
 #pragma once
 
 #include <string>
@@ -19,12 +22,12 @@
 
 namespace pgba {
 
-constexpr uint32_t kFeatureFileVersion = 1;
+constexpr uint32_t kFeatureFileVersion = 2;  // 2: checksum
 
 void WriteFeatureFile(const std::string& path, const FeatureSet& features, const std::string& key);
 
-// Reads a feature file; `key` (optional) receives the stored key. A missing, truncated or
-// malformed file is an InputError naming the file and the problem.
+// Reads a feature file; `key` (optional) receives the stored key. A missing, truncated,
+// damaged (checksum) or malformed file is an InputError naming the file and the problem.
 FeatureSet ReadFeatureFile(const std::string& path, std::string* key = nullptr);
 
 }  // namespace pgba

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <opencv2/imgcodecs.hpp>
 #include <tuple>
 
@@ -12,6 +14,7 @@
 #include "pgba/io/calibration_json.h"
 #include "pgba/io/colmap_text.h"
 #include "pgba/util/error.h"
+#include "pgba/util/input_file.h"
 #include "pgba/util/logging.h"
 #include "pgba/util/text_reader.h"
 
@@ -23,11 +26,12 @@ namespace {
 // The calibration file to use, "" if there is none (then the cameras are priors).
 std::string FindCalibration(const fs::path& dir, const std::string& given) {
   if (!given.empty()) {
-    if (!fs::is_regular_file(given)) ThrowInputError(given, 0, "calibration file not found");
+    RequireRegularFile(given);
     return given;
   }
+  std::error_code ec;
   for (const fs::path& p : {dir / "cameras.txt", dir.parent_path() / "cameras.txt"})
-    if (fs::is_regular_file(p)) return p.string();
+    if (fs::is_regular_file(p, ec)) return p.string();
   return "";
 }
 
@@ -108,6 +112,61 @@ void AssignPriorCameras(const fs::path& dir, ImageCatalog* catalog) {
   catalog->calibration_source = PriorSourceName(any_exif, any_default);
 }
 
+// Every visible regular file of `dir`, sorted by name. An entry that cannot even be
+// stat'ed (a symlink loop, a dangling link, no permission) is skipped with a warning naming
+// it, instead of a raw filesystem_error ending the run.
+std::vector<std::string> ListFiles(const fs::path& dir) {
+  std::vector<std::string> files;
+  std::error_code ec;
+  fs::directory_iterator it(dir, ec), end;
+  if (ec) ThrowInputError(dir.string(), 0, "cannot list the image folder: " + ec.message());
+  for (; it != end; it.increment(ec)) {
+    if (ec) ThrowInputError(dir.string(), 0, "cannot list the image folder: " + ec.message());
+    const std::string name = it->path().filename().string();
+    if (name.empty() || name[0] == '.') continue;
+    std::error_code stat_error;
+    const bool regular = it->is_regular_file(stat_error);
+    if (stat_error) {
+      PGBA_LOG_WARN << it->path().string() << ": cannot access (" << stat_error.message() << "); skipped";
+      continue;
+    }
+    if (regular) files.push_back(name);
+  }
+  if (ec) ThrowInputError(dir.string(), 0, "cannot list the image folder: " + ec.message());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+// A JPEG whose last scan (the last SOS marker, FF DA) is not followed by an end-of-image
+// marker (FF D9) was cut short: libjpeg decodes it with grey rows and only prints "Premature
+// end of JPEG file", naming no file. Entropy-coded data stuffs every FF byte (FF 00), so
+// neither marker can occur inside a scan.
+bool IsTruncatedJpeg(const std::string& bytes) {
+  if (bytes.size() < 3 || static_cast<unsigned char>(bytes[0]) != 0xFF ||
+      static_cast<unsigned char>(bytes[1]) != 0xD8 || static_cast<unsigned char>(bytes[2]) != 0xFF)
+    return false;  // not a JPEG
+  const size_t sos = bytes.rfind("\xFF\xDA");
+  if (sos == std::string::npos) return true;  // no image data at all
+  return bytes.find("\xFF\xD9", sos + 2) == std::string::npos;
+}
+
+void SkipTruncatedJpegs(const fs::path& dir, std::vector<std::string>* files) {
+  std::vector<char> truncated(files->size(), 0);
+  tbb::parallel_for(size_t(0), files->size(), [&](size_t i) {
+    std::ifstream in(dir / (*files)[i], std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    truncated[i] = IsTruncatedJpeg(bytes);
+  });
+  std::vector<std::string> kept;
+  for (size_t i = 0; i < files->size(); ++i) {
+    if (truncated[i])
+      PGBA_LOG_WARN << (dir / (*files)[i]).string() << ": truncated JPEG (no end-of-image marker after its last scan); skipped";
+    else
+      kept.push_back((*files)[i]);
+  }
+  *files = std::move(kept);
+}
+
 std::map<std::string, uint32_t> ReadCameraMap(const std::string& path, const std::map<uint32_t, Camera>& cameras) {
   std::map<std::string, uint32_t> map;
   TextReader reader(path);
@@ -125,16 +184,14 @@ std::map<std::string, uint32_t> ReadCameraMap(const std::string& path, const std
 }  // namespace
 
 ImageCatalog BuildImageCatalog(const std::string& images_dir, const CalibrationInput& calibration) {
-  if (!fs::is_directory(images_dir)) ThrowInputError(images_dir, 0, "image folder not found");
+  std::error_code ec;
+  if (!fs::is_directory(images_dir, ec)) ThrowInputError(images_dir, 0, "image folder not found");
   const fs::path dir = fs::weakly_canonical(images_dir);  // no trailing '/': parent_path() is the parent
   ImageCatalog catalog;
-  for (const fs::directory_entry& e : fs::directory_iterator(dir)) {
-    const std::string name = e.path().filename().string();
-    if (name.empty() || name[0] == '.' || !e.is_regular_file()) continue;
-    catalog.files.push_back(name);
-  }
-  std::sort(catalog.files.begin(), catalog.files.end());
+  catalog.files = ListFiles(dir);
   if (catalog.files.empty()) ThrowInputError(images_dir, 0, "image folder is empty");
+  SkipTruncatedJpegs(dir, &catalog.files);
+  if (catalog.files.empty()) ThrowInputError(images_dir, 0, "image folder has no usable file (see the warnings)");
 
   catalog.cameras_path = FindCalibration(dir, calibration.cameras_path);
   if (catalog.cameras_path.empty()) {

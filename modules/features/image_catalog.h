@@ -40,7 +40,8 @@ struct ImageCatalog {
   // File name (relative to the folder) -> camera id, for the files that have a camera.
   std::map<std::string, uint32_t> camera_of;
   // Every visible regular file of the folder, sorted by name (images or not: the decoder
-  // decides later, so that a non-image gets a warning naming it).
+  // decides later, so that a non-image gets a warning naming it). Left out, each with a
+  // warning naming it: entries that cannot be stat'ed (symlink loop) and truncated JPEGs.
   std::vector<std::string> files;
 };
 

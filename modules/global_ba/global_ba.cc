@@ -18,6 +18,7 @@
 #include "modules/global_ba/motion_weighting.h"
 #include "pgba/optim/pose_parameterization.h"
 #include "pgba/util/error.h"
+#include "pgba/util/id_ordered_map.h"
 #include "pgba/util/logging.h"
 #include "pgba/util/timer.h"
 #include "pgba/util/upper_median.h"
@@ -37,7 +38,8 @@ struct MotionTerm {
 };
 
 struct Unknowns {
-  std::map<uint32_t, PoseBlock> poses;  // std::map: stable addresses for Ceres
+  // Contiguous in id order: Ceres orders the Schur complement's blocks by address (id_ordered_map.h).
+  IdOrderedMap<PoseBlock> poses;
   std::vector<MotionTerm> terms;
   const GcpInput* gcps = nullptr;  // optional
   std::vector<GcpTripletTerm> gcp_terms;

@@ -81,8 +81,9 @@ struct GlobalBAOptions {
   // ratio matters: the robust scale normalises the rest.
   double scalar_rotation_sigma = 1e-3;
   double scalar_position_sigma = 1e-3;
-  // Ceres threads; 0 = hardware concurrency.
-  int num_threads = 0;
+  // Ceres threads. 1 (default): bit-identical results whatever the machine; more threads
+  // make Ceres' reductions scheduling-dependent (last bits). 0 = hardware concurrency.
+  int num_threads = 1;
   // --- Re-linearisation of the local models (RelinearizedGlobalBA; pointless BA only) ---
   // Each h_s is the curvature of triplet s's cost at its own solution x0_s, and the global
   // cost uses it as an exact quadratic wherever the solution lands. When h_s is extremely

@@ -140,5 +140,28 @@ TEST_F(EvaluateCli, BadInputsExitTwoNamingTheFile) {
   EXPECT_FALSE(fs::exists(json));
 }
 
+// A ground truth with no image in common used to exit 0 with "0 compared", errors over no
+// image that read like a perfect score.
+TEST_F(EvaluateCli, GroundTruthWithNoImageInCommonIsAnError) {
+  Reconstruction renamed = scene_.gt;
+  for (auto& [id, im] : renamed.images) im.name = "other_" + im.name;
+  WriteColmapText(renamed, (dir_ / "gt_renamed").string());
+  const fs::path json = dir_ / "none.json";
+  const test::CliStreams r = Run((dir_ / "gt").string() + " --obs " + (dir_ / "input").string() + " --gt " +
+                                 (dir_ / "gt_renamed").string() + " --json " + json.string());
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("error: " + (dir_ / "gt_renamed").string() + ": no image in common with"), std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(json));
+}
+
+// An unknown subcommand is named as such, with the known ones.
+TEST(PgbaCli, UnknownCommandIsNamed) {
+  const test::CliStreams r = test::RunPgbaStreams("-v 0 reconstrct --tracks x --out y");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("error: unknown command 'reconstrct' (commands: synth, evaluate,"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;  // one line
+}
+
 }  // namespace
 }  // namespace pgba

@@ -76,16 +76,88 @@ TEST_F(ReconstructCli, AccurateModelAndWorkspaceReRunGivesTheSamePoses) {
 
 TEST_F(ReconstructCli, ForeignOrIncompleteWorkspaceIsAnErrorNamingTheFile) {
   const fs::path ws = dir_ / "ws_other";
-  ASSERT_EQ(Run("reconstruct --tracks " + (dir_ / "other" / "input").string() + " --out " + ws.string()).code, 0);
+  ASSERT_EQ(Run("init --tracks " + (dir_ / "other" / "input").string() + " --out " + ws.string()).code, 0);
   const std::string tracks = " --tracks " + (dir_ / "scene" / "input").string();
   pgba::test::CliResult r = Run("reconstruct" + tracks + " --out " + (dir_ / "x").string() + " --workspace " + ws.string());
   EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.output.find((ws / "pairs.json").string()), std::string::npos) << r.output;
-  fs::remove(ws / "triplets.json");
-  r = Run("reconstruct" + tracks + " --out " + (dir_ / "x").string() + " --workspace " + ws.string());
+  EXPECT_NE(r.output.find((ws / "fingerprint.json").string() + ": the workspace was computed from other tracks"),
+            std::string::npos)
+      << r.output;
+  // A workspace of these tracks with an artefact missing.
+  const fs::path same = dir_ / "ws_same";
+  ASSERT_EQ(Run("init" + tracks + " --out " + same.string()).code, 0);
+  fs::remove(same / "triplets.json");
+  r = Run("reconstruct" + tracks + " --out " + (dir_ / "x").string() + " --workspace " + same.string());
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.output.find("triplets.json: missing"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir_ / "x" / "sparse"));
+}
+
+// The reported case: the workspace of another scene whose images have the same names went
+// through (exit 0, 4 of 70 images, 22 degrees). The fingerprint of the inputs refuses it, and
+// so it does a workspace initialised with other options or without a fingerprint.
+TEST_F(ReconstructCli, WorkspaceOfOtherSceneSameNamesOrOtherOptionsIsRefused) {
+  const fs::path twin = dir_ / "twin";
+  ASSERT_EQ(Run("synth --scenario aerial --images 24 --seed 4 --noise 0.5 --out " + twin.string()).code, 0);
+  const fs::path ws = dir_ / "ws_twin";
+  ASSERT_EQ(Run("init --tracks " + (twin / "input").string() + " --out " + ws.string()).code, 0);
+  const std::string tracks = " --tracks " + (dir_ / "scene" / "input").string();
+  const fs::path out = dir_ / "twin_out";
+  pgba::test::CliResult r = Run("reconstruct" + tracks + " --out " + out.string() + " --workspace " + ws.string());
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("computed from other tracks"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(out / "sparse"));
+
+  const fs::path mine = dir_ / "ws_mine";
+  ASSERT_EQ(Run("init" + tracks + " --out " + mine.string()).code, 0);
+  const fs::path config = dir_ / "other_options.json";
+  std::ofstream(config) << R"({"triplets": {"max_triplets_per_image": 3}})";
+  r = Run("reconstruct" + tracks + " --out " + out.string() + " --workspace " + mine.string() + " --config " +
+          config.string());
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("initialised with other options (triplets.max_triplets_per_image: 6 there, 3 here)"),
+            std::string::npos)
+      << r.output;
+  fs::remove(mine / "fingerprint.json");
+  r = Run("reconstruct" + tracks + " --out " + out.string() + " --workspace " + mine.string());
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find((mine / "fingerprint.json").string() + ": missing"), std::string::npos) << r.output;
+}
+
+// A failed re-run into the same --out leaves nothing of the earlier success that reads as
+// its result: no sparse/, no points.ply, and a report.json that says "failed".
+TEST_F(ReconstructCli, FailedReRunLeavesNoStaleResult) {
+  const fs::path out = dir_ / "rerun";
+  const std::string tracks = " --tracks " + (dir_ / "scene" / "input").string();
+  ASSERT_EQ(Run("reconstruct" + tracks + " --out " + out.string()).code, 0);
+  {
+    std::ifstream in(out / "report.json");
+    EXPECT_EQ(nlohmann::json::parse(in)["status"], "ok");
+  }
+  // Every pair rejected: no reconstruction is possible.
+  const fs::path config = dir_ / "impossible.json";
+  std::ofstream(config) << R"({"pairs": {"min_inliers": 100000}})";
+  const pgba::test::CliResult r = Run("reconstruct" + tracks + " --out " + out.string() + " --config " + config.string());
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_FALSE(fs::exists(out / "sparse"));
+  EXPECT_FALSE(fs::exists(out / "points.ply"));
+  EXPECT_FALSE(fs::exists(out / "fingerprint.json"));
+  std::ifstream in(out / "report.json");
+  const nlohmann::json report = nlohmann::json::parse(in);
+  EXPECT_EQ(report["status"], "failed");
+  EXPECT_FALSE(report["error"].get<std::string>().empty());
+}
+
+// A bad --out is found before the computation, not after it.
+TEST_F(ReconstructCli, BadOutIsAnErrorBeforeAnyWork) {
+  const fs::path file = dir_ / "a_file";
+  std::ofstream(file) << "x";
+  const pgba::test::CliResult r =
+      Run("reconstruct --tracks " + (dir_ / "scene" / "input").string() + " --out " + (file / "sub").string());
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find((file / "sub").string() + ": cannot create the output folder"), std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("pairs"), std::string::npos) << r.output;  // no stage ran
 }
 
 }  // namespace

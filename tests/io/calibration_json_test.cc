@@ -77,7 +77,7 @@ TEST_F(CalibrationJsonTest, ImagesMapIsOptional) {
 
 TEST_F(CalibrationJsonTest, MalformedInputNamesTheFileAndTheProblem) {
   const std::string cam = R"("camera_id": 1, "model": "PINHOLE", "width": 640, "height": 480)";
-  EXPECT_NE(ErrorOf("{not json").find("invalid JSON"), std::string::npos);
+  EXPECT_NE(ErrorOf("{not json").find("malformed JSON"), std::string::npos);
   EXPECT_NE(ErrorOf("{}").find("missing \"cameras\""), std::string::npos);
   EXPECT_NE(ErrorOf(R"({"cameras": []})").find("non-empty array"), std::string::npos);
   EXPECT_NE(ErrorOf(R"({"cameras": [{"model": "PINHOLE"}]})").find("cameras[0]: missing \"camera_id\""),

@@ -91,6 +91,11 @@ class DbWriter {
     sqlite3_finalize(s);
   }
   sqlite3* db_ = nullptr;
+
+ public:
+  void Sql(const std::string& sql) {
+    EXPECT_EQ(sqlite3_exec(db_, sql.c_str(), nullptr, nullptr, nullptr), SQLITE_OK) << sqlite3_errmsg(db_);
+  }
 };
 
 std::string TempPath(const std::string& name) {
@@ -239,6 +244,55 @@ TEST(ColmapDatabase, BadInputIsAnInputErrorNamingTheFile) {
     sqlite3_close(db);
   }
   EXPECT_THROW(ReadColmapDatabase(empty_schema), InputError);
+}
+
+// A hostile shape: rows * cols * 4 bytes wraps to 0 for rows = 2^62, which an empty blob
+// "matched" before, and the copy then read far beyond the blob (SIGSEGV).
+TEST(ColmapDatabase, HugeDeclaredShapeIsAnInputErrorNotAHeapOverflow) {
+  const int64_t huge = int64_t(1) << 62;
+  for (const char* table : {"keypoints", "two_view_geometries"}) {
+    const std::string path = TempPath(std::string("huge_") + table + ".db");
+    {
+      DbWriter w(path);
+      w.Camera(1, 1, 100, 100, {90, 90, 50, 50});
+      w.Image(1, "a", 1);
+      w.Image(2, "b", 1);
+      if (std::string(table) == "keypoints") {
+        w.Sql("INSERT INTO keypoints VALUES (1, " + std::to_string(huge) + ", 4, x'')");
+      } else {
+        w.Keypoints(1, 5, 2, KeypointBlob(1, 2));
+        w.Keypoints(2, 5, 2, KeypointBlob(2, 2));
+        w.Sql("INSERT INTO two_view_geometries (pair_id, rows, cols, data, config) VALUES (2147483649, " +
+              std::to_string(huge) + ", 2, x'', 2)");
+      }
+    }
+    try {
+      ReadColmapDatabase(path);
+      ADD_FAILURE() << table << ": accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("bad shape"), std::string::npos) << e.what();
+    }
+  }
+}
+
+// COLMAP's schema makes names UNIQUE; a database without that constraint must not give a
+// tracks model with two images of one name.
+TEST(ColmapDatabase, DuplicateImageNameIsAnInputError) {
+  const std::string path = TempPath("dup_names.db");
+  {
+    DbWriter w(path);
+    w.Sql("DROP TABLE images; CREATE TABLE images (image_id INTEGER PRIMARY KEY, name TEXT, camera_id INTEGER)");
+    w.Camera(1, 1, 100, 100, {90, 90, 50, 50});
+    w.Image(1, "a.jpg", 1);
+    w.Image(2, "a.jpg", 1);
+  }
+  try {
+    ReadColmapDatabase(path);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), path + ": duplicate image name 'a.jpg'");
+  }
 }
 
 }  // namespace

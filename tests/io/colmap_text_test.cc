@@ -78,8 +78,13 @@ Reconstruction RandomModel(std::mt19937& rng, int num_images, int num_points, in
     c.model = models[m];
     c.width = 1000 + 17 * m;
     c.height = 700 + 3 * m;
-    for (int k = 0; k < CameraModelNumParams(c.model); ++k) c.params.push_back(k == 0 ? 900 + 300 * (u(rng) + 1) : u(rng));
-    if (c.model == CameraModel::kPinhole || c.model == CameraModel::kOpenCV) c.params[1] = 1000 + u(rng);
+    const bool two_focals = c.model == CameraModel::kPinhole || c.model == CameraModel::kOpenCV;
+    // Distortion coefficients of a few percent: larger ones fold the image (not invertible,
+    // which the reader refuses).
+    const int first_distortion = two_focals ? 4 : 3;
+    for (int k = 0; k < CameraModelNumParams(c.model); ++k)
+      c.params.push_back(k == 0 ? 900 + 300 * (u(rng) + 1) : (k >= first_distortion ? 0.05 : 1.0) * u(rng));
+    if (two_focals) c.params[1] = 1000 + u(rng);
     rec.cameras[c.camera_id] = c;
   }
   const double special[] = {-0.0, 4.9406564584124654e-324, 2.2250738585072014e-308, 1.7976931348623157e308,
@@ -319,6 +324,8 @@ const Malformed kMalformed[] = {
     {"image_missing_camera", "images.txt", 2, "1 1 0 0 0 0 0 0 9 first image.jpg", 2, "CAMERA_ID 9 is not in cameras.txt"},
     {"image_duplicate_id", "images.txt", 4, "1 0.70710678118654757 0.70710678118654757 0 0 1 2 3 2 second.jpg", 4,
      "duplicate IMAGE_ID 1"},
+    {"image_duplicate_name", "images.txt", 4, "2 0.70710678118654757 0.70710678118654757 0 0 1 2 3 2 first image.jpg",
+     4, "duplicate image NAME 'first image.jpg' (IMAGE_ID 1 has it too)"},
     {"image_id_too_large", "images.txt", 2, "4294967296 1 0 0 0 0 0 0 1 first image.jpg", 2, "out of range"},
     {"points2D_not_triples", "images.txt", 3, "10 20 1 30 40 -1 50 60", 3, "triples"},
     {"points2D_garbage", "images.txt", 5, "11 21 1 31 forty-one 2", 5, "invalid number 'forty-one'"},

@@ -89,6 +89,20 @@ TEST(JsonConfig, MalformedJsonNamesFileLineAndColumn) {
             std::string::npos);
 }
 
+// nlohmann keeps the last of two equal keys silently and reports 1e999 as a raw
+// out_of_range exception without the file: both are InputErrors naming the file.
+TEST(JsonConfig, DuplicateKeysAndOverflowingNumbersAreNamed) {
+  EXPECT_EQ(ErrorOf([] { Config::Parse(R"({"triplets": {"q": 1, "q": 2}})", "d.json"); }),
+            "d.json: duplicate key 'triplets.q'");
+  EXPECT_EQ(ErrorOf([] { Config::Parse(R"({"triplets": {}, "triplets": {}})", "d.json"); }),
+            "d.json: duplicate key 'triplets'");
+  // The same key in sibling objects, or in objects of an array, is not a duplicate.
+  EXPECT_EQ(ErrorOf([] { Config::Parse(R"({"a": {"q": 1}, "b": {"q": 1, "l": [{"q": 1}, {"q": 2}]}})", "d.json"); }),
+            "");
+  const std::string overflow = ErrorOf([] { Config::Parse(R"({"triplets": {"q": 1e999}})", "o.json"); });
+  EXPECT_EQ(overflow.rfind("o.json: malformed JSON: number overflow parsing '1e999'", 0), 0u) << overflow;
+}
+
 TEST(JsonConfig, UnknownSectionAndKeysAreNamed) {
   const ConfigSchema schema = Schema();
   std::string msg = ErrorOf([&] { schema.Validate(Config::Parse(R"({"tripletz": {}})", "c.json")); });

@@ -168,13 +168,13 @@ TEST_F(WorkspaceTest, UnknownImageNameIsInputError) {
 
 TEST_F(WorkspaceTest, MalformedFilesAreInputErrors) {
   const fs::path path = WorkspacePairsPath(dir_);
-  EXPECT_NE(ErrorOf([&] { ReadPairs(path, tracks_); }).find("cannot open"), std::string::npos);
+  EXPECT_NE(ErrorOf([&] { ReadPairs(path, tracks_); }).find("file not found"), std::string::npos);
   WritePairs(path, tracks_, pairs_);
   const std::string good = Slurp(path);
   // Truncated JSON: the line of the problem is named.
   Spit(path, good.substr(0, good.size() / 2));
   std::string e = ErrorOf([&] { ReadPairs(path, tracks_); });
-  EXPECT_NE(e.find("invalid JSON"), std::string::npos) << e;
+  EXPECT_NE(e.find("malformed JSON"), std::string::npos) << e;
   EXPECT_NE(e.find(path.string() + ":"), std::string::npos) << e;
   // Not a rotation (the writer does not validate, the reader does).
   std::vector<TwoViewGeometry> bad = pairs_;

@@ -180,6 +180,34 @@ TEST(Camera, ValidateReportsEachProblem) {
   EXPECT_NE(c.Validate().find("focal"), std::string::npos);
 }
 
+// SIMPLE_RADIAL k = -40 (the reported case): the distorted radius of most of the image is
+// beyond the largest that r (1 + k r^2) reaches, so no ray maps there. The undistortion
+// reports it and Validate refuses the calibration; realistic distortions stay valid.
+TEST(Camera, NonInvertibleDistortionIsReportedAndRefused) {
+  Camera c = MakeCamera(CameraModel::kSimpleRadial);
+  c.params[3] = -40.0;
+  Eigen::Vector2d u;
+  EXPECT_TRUE(c.UndistortPixel(Eigen::Vector2d(960, 540), &u));  // the centre still maps to itself
+  EXPECT_NEAR(u.norm(), 0.0, 1e-15);
+  EXPECT_FALSE(c.UndistortPixel(Eigen::Vector2d(0, 0), &u));
+  EXPECT_NE(c.Validate().find("distortion is not invertible over the image"), std::string::npos) << c.Validate();
+  // A barrel distortion that turns round just inside the corners (r_max of 1 + k r^2 at
+  // r = 1/sqrt(-3k), distorted radius 2/3 of it).
+  c = MakeCamera(CameraModel::kSimpleRadial);
+  const double corner = Eigen::Vector2d(960, 540).norm() / 1000;  // distorted radius of the corners
+  c.params[3] = -4.0 / (27.0 * corner * corner) * 1.05;           // turning point 2.5% inside
+  EXPECT_NE(c.Validate(), "");
+  c.params[3] = -4.0 / (27.0 * corner * corner) * 0.9;  // turning point outside the image
+  EXPECT_EQ(c.Validate(), "");
+  c = MakeCamera(CameraModel::kOpenCV);
+  c.params[4] = -3.0;
+  EXPECT_NE(c.Validate().find("not invertible"), std::string::npos);
+  for (CameraModel m : kAllModels) {
+    Eigen::Vector2d v;
+    EXPECT_TRUE(MakeCamera(m).UndistortPixel(Eigen::Vector2d(0, 1080), &v)) << CameraModelName(m);
+  }
+}
+
 TEST(Camera, ParseCameraModel) {
   const std::pair<const char*, int> expected[] = {
       {"SIMPLE_PINHOLE", 3}, {"PINHOLE", 4}, {"SIMPLE_RADIAL", 4}, {"RADIAL", 5}, {"OPENCV", 8}};

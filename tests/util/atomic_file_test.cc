@@ -175,5 +175,56 @@ TEST_F(AtomicFileTest, StagedDirectoryRefusesToReplaceAFile) {
   EXPECT_EQ(Entries(), Names({"model"}));
 }
 
+// rename(2) over a device node or a FIFO replaces the node by a regular file (as root,
+// `--json /dev/full` did): a non-regular output is refused and left as it is.
+TEST_F(AtomicFileTest, NonRegularFileIsRefusedNotReplaced) {
+  const fs::path fifo = dir_ / "out.json";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  try {
+    WriteStringAtomically(fifo, "{}");
+    FAIL() << "replaced the FIFO";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              fifo.string() + ": is not a regular file (device, FIFO or socket), refusing to replace it");
+  }
+  EXPECT_TRUE(fs::is_fifo(fifo));
+  EXPECT_EQ(Entries(), Names({"out.json"}));
+  if (fs::exists("/dev/full")) {  // the reported case; as root the node itself was at risk
+    EXPECT_THROW(WriteStringAtomically("/dev/full", "{}"), InputError);
+    EXPECT_TRUE(fs::is_character_file("/dev/full"));
+  }
+}
+
+// A symlinked output is written through the link (its target replaced atomically), and the
+// link stays a link; a directory symlink likewise for a staged model directory.
+TEST_F(AtomicFileTest, SymlinkIsFollowed) {
+  fs::create_directories(dir_ / "real");
+  WriteStringAtomically(dir_ / "real" / "report.json", "old");
+  fs::create_symlink(dir_ / "real" / "report.json", dir_ / "link.json");
+  WriteStringAtomically(dir_ / "link.json", "new");
+  EXPECT_TRUE(fs::is_symlink(dir_ / "link.json"));
+  EXPECT_EQ(Read(dir_ / "real" / "report.json"), "new");
+  // A dangling link: its target is created.
+  fs::create_symlink(dir_ / "real" / "later.json", dir_ / "dangling.json");
+  WriteStringAtomically(dir_ / "dangling.json", "created");
+  EXPECT_TRUE(fs::is_symlink(dir_ / "dangling.json"));
+  EXPECT_EQ(Read(dir_ / "real" / "later.json"), "created");
+
+  fs::create_directories(dir_ / "models" / "v1");
+  WriteStringAtomically(dir_ / "models" / "v1" / "a.txt", "old");
+  fs::create_directory_symlink(dir_ / "models" / "v1", dir_ / "sparse");
+  {
+    StagedDirectory staged(dir_ / "sparse");
+    WriteStringAtomically(staged.path() / "a.txt", "new");
+    staged.Commit();
+  }
+  EXPECT_TRUE(fs::is_symlink(dir_ / "sparse"));
+  EXPECT_EQ(Read(dir_ / "models" / "v1" / "a.txt"), "new");
+  // A link loop is an InputError naming the path.
+  fs::create_symlink(dir_ / "loop_a", dir_ / "loop_b");
+  fs::create_symlink(dir_ / "loop_b", dir_ / "loop_a");
+  EXPECT_THROW(WriteStringAtomically(dir_ / "loop_a", "x"), InputError);
+}
+
 }  // namespace
 }  // namespace pgba

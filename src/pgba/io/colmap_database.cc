@@ -9,6 +9,7 @@
 #include <set>
 
 #include "pgba/util/error.h"
+#include "pgba/util/input_file.h"
 
 namespace pgba {
 namespace {
@@ -39,10 +40,18 @@ bool Step(sqlite3* db, sqlite3_stmt* stmt, const std::string& path) {
   ThrowInputError(path, 0, std::string("database read failed (") + sqlite3_errmsg(db) + ")");
 }
 
-// A blob column as a vector of T, checked against the expected element count.
+// A blob column holding a rows x cols matrix of T, checked against its declared shape. The
+// shape comes from the file: bounded first, so that rows * cols * sizeof(T) cannot wrap
+// (rows = 2^62 with an empty blob must be "bad shape", not a 0-byte match and a heap read).
+constexpr int64_t kMaxBlobRows = int64_t(1) << 31;  // an SQLite blob holds < 2^31 bytes
+constexpr int64_t kMaxBlobCols = 1 << 10;
 template <typename T>
-std::vector<T> ReadBlob(sqlite3_stmt* stmt, int col, size_t expected, const std::string& path,
+std::vector<T> ReadBlob(sqlite3_stmt* stmt, int col, int64_t rows, int64_t cols, const std::string& path,
                         const std::string& what) {
+  if (rows < 0 || cols < 0 || rows > kMaxBlobRows || cols > kMaxBlobCols)
+    ThrowInputError(path, 0,
+                    what + ": bad shape " + std::to_string(rows) + " x " + std::to_string(cols));
+  const size_t expected = static_cast<size_t>(rows * cols);
   const int bytes = sqlite3_column_bytes(stmt, col);
   const void* data = sqlite3_column_blob(stmt, col);
   if (static_cast<size_t>(bytes) != expected * sizeof(T))
@@ -69,7 +78,7 @@ void ReadCameras(sqlite3* db, const std::string& path, ColmapDatabase* out) {
     cam.model = static_cast<CameraModel>(model);
     cam.width = sqlite3_column_int(stmt.get(), 2);
     cam.height = sqlite3_column_int(stmt.get(), 3);
-    cam.params = ReadBlob<double>(stmt.get(), 4, CameraModelNumParams(cam.model), path, what + " params");
+    cam.params = ReadBlob<double>(stmt.get(), 4, CameraModelNumParams(cam.model), 1, path, what + " params");
     const std::string problem = cam.Validate();
     if (!problem.empty()) ThrowInputError(path, 0, what + ": " + problem);
     out->cameras[cam.camera_id] = cam;
@@ -78,6 +87,7 @@ void ReadCameras(sqlite3* db, const std::string& path, ColmapDatabase* out) {
 
 void ReadImagesAndKeypoints(sqlite3* db, const std::string& path, ColmapDatabase* out) {
   std::map<uint32_t, size_t> slot;
+  std::set<std::string> names;  // images are matched by name downstream (as in colmap_text.cc)
   Statement images = Prepare(db, path, "SELECT image_id, name, camera_id FROM images ORDER BY image_id");
   while (Step(db, images.get(), path)) {
     KeypointImage im;
@@ -87,6 +97,7 @@ void ReadImagesAndKeypoints(sqlite3* db, const std::string& path, ColmapDatabase
     im.camera_id = static_cast<uint32_t>(sqlite3_column_int64(images.get(), 2));
     if (!out->cameras.count(im.camera_id))
       ThrowInputError(path, 0, "image " + im.name + " uses unknown camera " + std::to_string(im.camera_id));
+    if (!names.insert(im.name).second) ThrowInputError(path, 0, "duplicate image name '" + im.name + "'");
     slot[im.image_id] = out->images.size();
     out->images.push_back(std::move(im));
   }
@@ -99,7 +110,7 @@ void ReadImagesAndKeypoints(sqlite3* db, const std::string& path, ColmapDatabase
     if (it == slot.end()) ThrowInputError(path, 0, what + ": no such image");
     if (rows < 0 || (rows > 0 && cols < 2)) ThrowInputError(path, 0, what + ": bad shape");
     const std::vector<float> data =
-        ReadBlob<float>(kps.get(), 3, static_cast<size_t>(rows * std::max<int64_t>(cols, 0)), path, what);
+        ReadBlob<float>(kps.get(), 3, rows, rows > 0 ? cols : 0, path, what);
     std::vector<Eigen::Vector2d>& kp = out->images[it->second].keypoints;
     kp.resize(rows);
     for (int64_t r = 0; r < rows; ++r) kp[r] = Eigen::Vector2d(data[r * cols], data[r * cols + 1]);
@@ -121,7 +132,7 @@ void ReadTwoViewGeometries(sqlite3* db, const std::string& path, ColmapDatabase*
     if (!ids.count(g.image_id1) || !ids.count(g.image_id2)) ThrowInputError(path, 0, what + ": unknown image");
     const int64_t rows = sqlite3_column_int64(stmt.get(), 1), cols = sqlite3_column_int64(stmt.get(), 2);
     if (rows < 0 || (rows > 0 && cols != 2)) ThrowInputError(path, 0, what + ": bad shape");
-    const std::vector<uint32_t> data = ReadBlob<uint32_t>(stmt.get(), 3, static_cast<size_t>(rows * 2), path, what);
+    const std::vector<uint32_t> data = ReadBlob<uint32_t>(stmt.get(), 3, rows, 2, path, what);
     g.inlier_matches.resize(rows);
     for (int64_t r = 0; r < rows; ++r) g.inlier_matches[r] = {data[2 * r], data[2 * r + 1]};
     out->two_view_geometries.push_back(std::move(g));
@@ -133,7 +144,7 @@ void ReadTwoViewGeometries(sqlite3* db, const std::string& path, ColmapDatabase*
 bool IsVerifiedColmapConfig(int config) { return config >= 2 && config <= 6; }
 
 ColmapDatabase ReadColmapDatabase(const std::string& path) {
-  if (!std::filesystem::is_regular_file(path)) ThrowInputError(path, 0, "database not found");
+  RequireRegularFile(path);
   sqlite3* raw = nullptr;
   if (sqlite3_open_v2(path.c_str(), &raw, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK) {
     const std::string msg = raw ? sqlite3_errmsg(raw) : "out of memory";

@@ -50,8 +50,15 @@ Image ParseImageHeader(const TextReader& r, const std::vector<std::string>& tok,
 void ReadImages(const std::string& path, Reconstruction* rec, std::map<uint32_t, int>* points2D_line) {
   TextReader r(path);
   std::vector<std::string> tok, pts;
+  // Images are matched by name everywhere (ground truth, workspaces, GCPs): two images of
+  // one name would let `evaluate --gt` align on the wrong one.
+  std::map<std::string, uint32_t> id_of_name;
   while (r.NextLine(&tok)) {
     Image im = ParseImageHeader(r, tok, *rec);
+    const auto [named, fresh] = id_of_name.emplace(im.name, im.image_id);
+    if (!fresh)
+      r.Fail("duplicate image NAME '" + TextReader::Printable(im.name) + "' (IMAGE_ID " +
+             std::to_string(named->second) + " has it too)");
     // The POINTS2D line always follows the header and may be empty (no observations);
     // end of file right after the header is read as an empty line too.
     r.NextRawLine(&pts);

@@ -9,6 +9,7 @@
 #include <algorithm>
 
 #include "pgba/util/error.h"
+#include "pgba/util/input_file.h"
 #include "pgba/util/logging.h"
 #include "pgba/util/text_reader.h"
 
@@ -20,6 +21,7 @@ namespace {
 
 // Width and height from a PNG's IHDR chunk (bytes 16..23, big-endian).
 std::pair<int, int> PngSize(const fs::path& path) {
+  RequireRegularFile(path.string());
   std::ifstream in(path, std::ios::binary);
   unsigned char h[24] = {};
   if (!in.read(reinterpret_cast<char*>(h), 24))

@@ -1,11 +1,11 @@
 #include "pgba/io/json_config.h"
 
 #include <cmath>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
 
+#include "pgba/io/json_file_reader.h"
+#include "pgba/io/option_ranges.h"
 #include "pgba/util/error.h"
+#include "pgba/util/input_file.h"
 
 namespace pgba {
 
@@ -17,50 +17,19 @@ const char* TypeName(const nlohmann::json& j) {
   return j.type_name();
 }
 
-// nlohmann reports a byte offset; users want a line and a column.
-void LineColumn(const std::string& text, size_t byte, int* line, int* column) {
-  *line = 1;
-  *column = 1;
-  for (size_t i = 0; i < byte && i < text.size(); ++i) {
-    if (text[i] == '\n') {
-      ++*line;
-      *column = 1;
-    } else {
-      ++*column;
-    }
-  }
-}
-
 }  // namespace
 
 Config Config::Parse(const std::string& text, const std::string& origin) {
   Config c;
   c.origin_ = origin;
-  try {
-    c.root_ = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    // e.byte is one past the offending character.
-    int line, column;
-    LineColumn(text, e.byte > 0 ? e.byte - 1 : 0, &line, &column);
-    std::string what = e.what();
-    const size_t colon = what.find(": ");  // drop "[json.exception.parse_error.101] parse error at ...:"
-    if (colon != std::string::npos) what = what.substr(colon + 2);
-    ThrowInputError(origin, line, "malformed JSON at column " + std::to_string(column) + ": " + what);
-  }
+  c.root_ = ParseJsonStrictly(text, origin);
   if (!c.root_.is_object()) ThrowInputError(origin, 0, "a config must be a JSON object of sections");
   for (const auto& [name, section] : c.root_.items())
     if (!section.is_object()) ThrowInputError(origin, 0, "section '" + name + "' must be a JSON object");
   return c;
 }
 
-Config Config::Load(const std::string& path) {
-  if (!std::filesystem::exists(path)) ThrowInputError(path, 0, "file not found");
-  std::ifstream in(path);
-  if (!in || std::filesystem::is_directory(path)) ThrowInputError(path, 0, "cannot open file for reading");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return Parse(ss.str(), path);
-}
+Config Config::Load(const std::string& path) { return Parse(ReadRegularFile(path), path); }
 
 namespace internal {
 
@@ -130,6 +99,7 @@ void ConfigSchema::Validate(const Config& config) const {
 Config LoadConfig(const std::string& path, const ConfigSchema& schema) {
   Config c = Config::Load(path);
   schema.Validate(c);
+  CheckOptionRanges(c.root(), c.origin());
   return c;
 }
 

@@ -92,7 +92,8 @@ class ConfigSchema {
   std::map<std::string, nlohmann::json> sections_;
 };
 
-// Config::Load + schema.Validate.
+// Config::Load + schema.Validate + CheckOptionRanges (option_ranges.h): the one way a
+// command reads its config file.
 Config LoadConfig(const std::string& path, const ConfigSchema& schema);
 
 }  // namespace pgba

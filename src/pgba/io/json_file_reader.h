@@ -10,13 +10,19 @@
 
 namespace pgba {
 
+// Parses JSON text as every reader of pgba does: a syntax error is an InputError
+// "ORIGIN:LINE: malformed JSON at column C: ...", and so are the two things nlohmann accepts
+// or reports raw: a duplicate key (nlohmann silently keeps the last one, so a config could
+// say two things at once) and a number beyond double range (1e999).
+nlohmann::json ParseJsonStrictly(const std::string& text, const std::string& origin);
+
 class JsonFileReader {
  public:
   explicit JsonFileReader(std::string path) : path_(std::move(path)) {}
 
   const std::string& path() const { return path_; }
   [[noreturn]] void Fail(const std::string& where, const std::string& problem) const;
-  // The whole file parsed ("cannot open" / "invalid JSON" at its line otherwise).
+  // The whole file parsed (ReadRegularFile, then ParseJsonStrictly).
   nlohmann::json Parse() const;
   const nlohmann::json& Field(const nlohmann::json& j, const char* key, const std::string& where) const;
   double Number(const nlohmann::json& j, const std::string& where) const;  // finite

@@ -182,11 +182,12 @@ BundleAdjustmentSummary BundleAdjust(const BundleAdjustmentProblem& problem, con
   ceres::Solver::Options solver;
   solver.linear_solver_type = ChooseLinearSolver(options, summary.num_free_poses, problem.constant_points);
   if (ceres::IsSchurType(solver.linear_solver_type)) {
-    // Points first: the Schur complement eliminates them and leaves the reduced camera system.
-    auto* ordering = new ceres::ParameterBlockOrdering;
-    for (double* p : point_blocks) ordering->AddElementToGroup(p, 0);
-    for (auto& [id, b] : blocks) ordering->AddElementToGroup(b.x.data(), 1);
-    solver.linear_solver_ordering.reset(ordering);
+    // No explicit ordering: Ceres then picks the eliminated blocks as a maximal independent
+    // set in the order the blocks were added (ComputeStableSchurOrdering: the points, each
+    // seen by few poses), deterministic. An explicit ParameterBlockOrdering orders each
+    // group by address, and the addresses of map nodes (the points of *rec, the pose
+    // blocks) depend on the heap's history, hence on the thread that ran the adjustment:
+    // the last bits of every triplet then changed with the thread count.
   }
   if (solver.linear_solver_type == ceres::ITERATIVE_SCHUR) solver.preconditioner_type = ceres::SCHUR_JACOBI;
   solver.max_num_iterations = options.max_iterations;

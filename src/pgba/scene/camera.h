@@ -34,14 +34,21 @@ struct Camera {
 
   // Pixels of a point in the camera frame (z > 0 expected; no check here).
   Eigen::Vector2d Project(const Eigen::Vector3d& x_cam) const;
-  // Normalised, undistorted image coordinates (x/z, y/z) of a pixel.
+  // Normalised, undistorted image coordinates (x/z, y/z) of a pixel. For a calibration that
+  // passed Validate() the undistortion converges over the whole image; otherwise this is
+  // the last Newton iterate (see UndistortPixel).
   Eigen::Vector2d PixelToNormalized(const Eigen::Vector2d& pixel) const;
+  // The same, reporting failure: false when the Newton iteration on distort(u) = d does not
+  // converge, or converges where the distortion folds back (Jacobian determinant <= 0:
+  // beyond the radius where a barrel distortion turns round, distort is not invertible).
+  bool UndistortPixel(const Eigen::Vector2d& pixel, Eigen::Vector2d* normalized) const;
   // Unit bearing vector (camera frame) of a pixel.
   Eigen::Vector3d PixelToBearing(const Eigen::Vector2d& pixel) const;
   // Mean focal length in pixels: converts angular thresholds to pixel ones and back.
   double MeanFocal() const;
   // Empty string if consistent; otherwise the problem (wrong parameter count, non-positive
-  // focal or size, non-finite value).
+  // focal or size, non-finite value, a distortion not invertible over the image: a grid of
+  // pixels covering it, corners included, must all undistort, see UndistortPixel).
   std::string Validate() const;
 };
 

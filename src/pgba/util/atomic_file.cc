@@ -29,6 +29,35 @@ fs::path Sibling(const fs::path& path, const char* tag) {
   return fs::path(path.string() + "." + tag + "." + std::to_string(::getpid()) + "." + std::to_string(counter++));
 }
 
+// The path to replace. A symlink is followed (to its final target, which is replaced and
+// the link kept), so that an output linked elsewhere is written there; any other
+// non-regular file (a device such as /dev/full, a FIFO, a socket) is refused: rename(2)
+// would replace the device node itself by a regular file when run as root.
+fs::path ResolveOutput(const fs::path& path, bool directory) {
+  fs::path target = WithoutTrailingSeparator(path);
+  std::error_code ec;
+  // Link by link (a dangling link's target is where the file goes; weakly_canonical would
+  // stop at the link itself), at most 40 as the kernel does.
+  for (int links = 0; fs::is_symlink(fs::symlink_status(target, ec)); ++links) {
+    const fs::path next = fs::read_symlink(target, ec);
+    if (ec || links == 40)
+      ThrowInputError(path.string(), 0,
+                      "cannot resolve the symbolic link: " + (ec ? ec.message() : std::string("too many levels")));
+    target = next.is_absolute() ? next : target.parent_path() / next;
+  }
+  const fs::file_status status = fs::status(target, ec);
+  if (ec && status.type() != fs::file_type::not_found)
+    ThrowInputError(path.string(), 0, "cannot access: " + ec.message());
+  const fs::file_type type = status.type();
+  if (type == fs::file_type::not_found || type == fs::file_type::none) return target;
+  if (directory && type != fs::file_type::directory) ThrowInputError(target.string(), 0, "exists and is not a directory");
+  if (!directory && type == fs::file_type::directory)
+    ThrowInputError(target.string(), 0, "is a directory, cannot write a file there");
+  if (!directory && type != fs::file_type::regular)
+    ThrowInputError(target.string(), 0, "is not a regular file (device, FIFO or socket), refusing to replace it");
+  return target;
+}
+
 void CreateParent(const fs::path& path) {
   if (!path.has_parent_path()) return;
   std::error_code ec;
@@ -39,10 +68,9 @@ void CreateParent(const fs::path& path) {
 }  // namespace
 
 void WriteFileAtomically(const fs::path& path, const std::function<void(std::ostream&)>& writer) {
-  const fs::path target = WithoutTrailingSeparator(path);
+  const fs::path target = ResolveOutput(path, /*directory=*/false);
   CreateParent(target);
   std::error_code ec;
-  if (fs::is_directory(target, ec)) ThrowInputError(target.string(), 0, "is a directory, cannot write a file there");
   const fs::path tmp = Sibling(target, "tmp");
   try {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
@@ -64,10 +92,8 @@ void WriteStringAtomically(const fs::path& path, const std::string& content) {
 }
 
 StagedDirectory::StagedDirectory(fs::path final_dir)
-    : final_(WithoutTrailingSeparator(final_dir)), staging_(Sibling(final_, "tmp")) {
+    : final_(ResolveOutput(final_dir, /*directory=*/true)), staging_(Sibling(final_, "tmp")) {
   std::error_code ec;
-  if (fs::exists(final_, ec) && !fs::is_directory(final_, ec))
-    ThrowInputError(final_.string(), 0, "exists and is not a directory");
   CreateParent(final_);
   fs::remove_all(staging_, ec);
   fs::create_directories(staging_, ec);

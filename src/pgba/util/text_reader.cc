@@ -4,21 +4,14 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <filesystem>
 
 #include "pgba/util/error.h"
+#include "pgba/util/input_file.h"
 
 namespace pgba {
 
 TextReader::TextReader(const std::string& path) : path_(path) {
-  // error_code overloads: a path we may not even stat (permissions) is an input error too,
-  // not a filesystem_error escaping to the caller.
-  std::error_code ec;
-  const auto status = std::filesystem::status(path, ec);
-  if (status.type() == std::filesystem::file_type::not_found) ThrowInputError(path, 0, "file not found");
-  if (ec) ThrowInputError(path, 0, "cannot access file: " + ec.message());
-  if (status.type() == std::filesystem::file_type::directory)
-    ThrowInputError(path, 0, "is a directory, expected a file");
+  RequireRegularFile(path);
   in_.open(path, std::ios::binary);
   if (!in_) ThrowInputError(path, 0, "cannot open file for reading");
 }

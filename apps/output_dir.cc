@@ -1,0 +1,48 @@
+#include "apps/output_dir.h"
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <system_error>
+
+#include "pgba/util/error.h"
+
+namespace pgba::app {
+namespace fs = std::filesystem;
+
+void PrepareOutputDir(const std::string& out) {
+  std::error_code ec;
+  fs::create_directories(out, ec);
+  if (ec || !fs::is_directory(out))
+    ThrowInputError(out, 0, "cannot create the output folder" + (ec ? ": " + ec.message() : std::string()));
+  const fs::path probe = fs::path(out) / (".pgba_write_probe." + std::to_string(::getpid()));
+  {
+    std::ofstream f(probe);
+    if (!(f << "probe") || !f.flush()) ThrowInputError(out, 0, "output folder is not writable");
+  }
+  fs::remove(probe, ec);
+}
+
+void RemovePreviousResults(const std::string& out) {
+  std::error_code ec;
+  for (const char* name : {"sparse", "points.ply", "report.json", "report.html", "fingerprint.json"}) {
+    fs::remove_all(fs::path(out) / name, ec);
+    if (ec) ThrowInputError((fs::path(out) / name).string(), 0, "cannot remove the previous result: " + ec.message());
+  }
+}
+
+WorkspaceFingerprint FingerprintOf(const Reconstruction& tracks, const ReconstructionOptions& options,
+                                   bool with_hessians) {
+  WorkspaceFingerprint f;
+  f.tracks = TracksFingerprint(tracks);
+  f.init_options = WithoutThreadCounts({{"pairs", options.mapper.pairs},
+                                        {"triplets", options.mapper.triplets},
+                                        {"global_init", options.mapper.global_init}});
+  if (with_hessians)
+    f.hessian_options = WithoutThreadCounts(
+        {{"local_motions", options.refinement.local_motions}, {"local_hessian", options.refinement.local_hessian}});
+  return f;
+}
+
+}  // namespace pgba::app

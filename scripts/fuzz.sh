@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# Open-ended fuzzing of one parser with libFuzzer (clang, ASan + UBSan), for longer runs than
+# the few seconds of deterministic mutations that ctest gives each target:
+#   bash scripts/fuzz.sh colmap_text 600        # target, seconds (default 300)
+# Targets: the tests/fuzz/fuzz_<target>.cc files (colmap_text colmap_database json_config
+# gcp_file loop_pairs feature_file workspace_json). The corpus starts from the target's seeds
+# and grows in build-fuzz/corpus/<target>/; crashes are written to build-fuzz/crash-*.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+target=${1:?usage: scripts/fuzz.sh TARGET [SECONDS]}
+seconds=${2:-300}
+bash scripts/install_deps.sh
+dpkg-query -W -f='${Status}\n' clang libclang-rt-14-dev 2>/dev/null | grep -c "install ok installed" | grep -q 2 ||
+  { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends clang libclang-rt-14-dev; }
+cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+  -DPGBA_SANITIZE=ON -DPGBA_LIBFUZZER=ON > build-fuzz.log 2>&1 || { cat build-fuzz.log; exit 1; }
+cmake --build build-fuzz -j"$(nproc)" --target "fuzz_$target" "libfuzz_$target" 2>&1 | tail -n 3
+cd build-fuzz
+mkdir -p "corpus/$target"
+"./bin/fuzz_$target" --dump-seeds "corpus/$target" > /dev/null
+export ASAN_OPTIONS="detect_leaks=0"
+"./bin/libfuzz_$target" -max_total_time="$seconds" -timeout=10 "corpus/$target"

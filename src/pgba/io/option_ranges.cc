@@ -1,0 +1,225 @@
+#include "pgba/io/option_ranges.h"
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <map>
+
+#include "pgba/util/error.h"
+
+namespace pgba {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+OptionRange Above(double v) { return {v, kInf, true, false, true, false}; }      // > v
+OptionRange AtLeast(double v) { return {v, kInf, true, false, false, false}; }   // >= v
+OptionRange Closed(double a, double b) { return {a, b, true, true, false, false}; }
+OptionRange Open(double a, double b) { return {a, b, true, true, true, true}; }
+OptionRange HalfOpen(double a, double b) { return {a, b, true, true, true, false}; }  // (a, b]
+OptionRange Unbounded() { return {}; }  // documented meaning for every value (<= 0: off; seeds)
+
+const OptionRange kPositive = Above(0);
+const OptionRange kNonNegative = AtLeast(0);
+const OptionRange kAtLeastOne = AtLeast(1);
+const OptionRange kFraction = Closed(0, 1);
+const OptionRange kProbability = Open(0, 1);     // RANSAC confidence: 1 never stops, 0 never samples
+const OptionRange kAngleDeg = HalfOpen(0, 180);  // a positive angle threshold
+const OptionRange kMinAngleDeg = Closed(0, 180);  // a lower bound on an angle, 0 = none
+
+using Table = std::map<std::string, OptionRange>;
+
+// BundleAdjusterOptions (optim/bundle_adjuster.h) under `prefix`.
+void AddBundleAdjuster(const std::string& prefix, Table* t) {
+  (*t)[prefix + ".loss_scale_px"] = kPositive;
+  (*t)[prefix + ".dense_schur_max_poses"] = kNonNegative;
+  (*t)[prefix + ".max_iterations"] = kAtLeastOne;
+  (*t)[prefix + ".function_tolerance"] = kNonNegative;
+  (*t)[prefix + ".gradient_tolerance"] = kNonNegative;
+  (*t)[prefix + ".parameter_tolerance"] = kNonNegative;
+  (*t)[prefix + ".num_threads"] = kNonNegative;  // 0 = all
+}
+
+// RelativePoseOptions (matching/relative_pose.h) under `prefix`.
+void AddRelativePose(const std::string& prefix, Table* t) {
+  (*t)[prefix + ".threshold_px"] = kPositive;
+  (*t)[prefix + ".max_iterations"] = kAtLeastOne;
+  (*t)[prefix + ".confidence"] = kProbability;
+  (*t)[prefix + ".seed"] = Unbounded();
+  (*t)[prefix + ".huber_px"] = kPositive;
+  (*t)[prefix + ".max_refine_correspondences"] = AtLeast(5);  // the 5-point minimum
+  (*t)[prefix + ".min_inliers"] = AtLeast(5);
+}
+
+Table BuildTable() {
+  Table t;
+  // features (features/extract_features.h, sift_extractor.h)
+  t["features.sift.max_features"] = kAtLeastOne;
+  t["features.sift.max_image_size"] = Unbounded();  // <= 0 disables the downscaling
+  t["features.sift.contrast_threshold"] = kPositive;
+  t["features.sift.edge_threshold"] = kPositive;
+  t["features.max_parallel_images"] = kNonNegative;  // 0 = one per core
+  // matching (matching/*.h)
+  t["matching.pairs.window"] = kAtLeastOne;
+  t["matching.pairs.vlad.neighbors"] = kAtLeastOne;
+  t["matching.pairs.vlad.num_words"] = kAtLeastOne;
+  t["matching.pairs.vlad.max_training_descriptors"] = kAtLeastOne;
+  t["matching.pairs.vlad.kmeans_iterations"] = kAtLeastOne;
+  t["matching.pairs.vlad.seed"] = Unbounded();
+  t["matching.descriptors.max_ratio"] = HalfOpen(0, 1);
+  t["matching.descriptors.max_distance"] = kPositive;
+  t["matching.descriptors.kdtree_trees"] = kAtLeastOne;
+  t["matching.descriptors.checks"] = kAtLeastOne;
+  AddRelativePose("matching.verification.relative_pose", &t);
+  t["matching.verification.min_inlier_ratio"] = kFraction;
+  t["matching.verification.max_rotation_sd_deg"] = kAngleDeg;
+  t["matching.tracks.min_track_length"] = AtLeast(2);
+  t["matching.max_indexed_images"] = AtLeast(2);  // both images of a pair
+  // pairs (triplets/view_graph.h)
+  t["pairs.min_shared_tracks"] = AtLeast(5);
+  t["pairs.max_pairs_per_image"] = kNonNegative;  // 0 = no limit
+  AddRelativePose("pairs.relative_pose", &t);
+  t["pairs.min_inliers"] = AtLeast(5);
+  t["pairs.min_inlier_ratio"] = kFraction;
+  t["pairs.min_triangulation_angle_deg"] = kMinAngleDeg;
+  t["pairs.seed"] = Unbounded();
+  // triplets (triplets/triplet_options.h, absolute_pose.h)
+  t["triplets.max_triplets_per_image"] = kAtLeastOne;
+  t["triplets.max_selection_rounds"] = kAtLeastOne;
+  t["triplets.max_rotation_cycle_deg"] = kAngleDeg;
+  t["triplets.open_min_tracks_all_views"] = kAtLeastOne;
+  t["triplets.absolute_pose.threshold_px"] = kPositive;
+  t["triplets.absolute_pose.max_iterations"] = kAtLeastOne;
+  t["triplets.absolute_pose.confidence"] = kProbability;
+  t["triplets.absolute_pose.seed"] = Unbounded();
+  t["triplets.absolute_pose.min_inliers"] = AtLeast(3);  // the P3P minimum
+  t["triplets.outlier_threshold_px"] = kPositive;
+  t["triplets.min_track_angle_deg"] = kMinAngleDeg;
+  AddBundleAdjuster("triplets.bundle_adjuster", &t);
+  t["triplets.min_tracks"] = kAtLeastOne;
+  t["triplets.max_rms_px"] = kPositive;
+  t["triplets.min_triangulation_angle_deg"] = kMinAngleDeg;
+  t["triplets.score_angle_deg"] = kAngleDeg;
+  t["triplets.seed"] = Unbounded();
+  // global_init (averaging/*.h)
+  t["global_init.pair_validation.max_rotation_deg"] = kAngleDeg;
+  t["global_init.pair_validation.max_direction_deg"] = kAngleDeg;
+  t["global_init.rotation.observations.pair_weight"] = kNonNegative;
+  t["global_init.rotation.observations.triplet_weight"] = kNonNegative;
+  t["global_init.rotation.init_consistency_deg"] = kAngleDeg;
+  t["global_init.rotation.max_l1_iterations"] = kNonNegative;  // 0 disables the L1 stage
+  t["global_init.rotation.l1_inner_iterations"] = kAtLeastOne;
+  t["global_init.rotation.l1_step_tolerance_deg"] = kPositive;
+  t["global_init.rotation.loss_scale_deg"] = kAngleDeg;
+  t["global_init.rotation.max_irls_iterations"] = kNonNegative;
+  t["global_init.rotation.step_tolerance_deg"] = kPositive;
+  t["global_init.rotation.inlier_threshold_deg"] = kAngleDeg;
+  t["global_init.translation.scale_loss_scale"] = kPositive;
+  t["global_init.translation.centre_loss_scale"] = kPositive;
+  t["global_init.translation.max_irls_iterations"] = kAtLeastOne;
+  t["global_init.translation.irls_tolerance"] = kPositive;
+  t["global_init.translation.pair_weight"] = kNonNegative;
+  t["global_init.translation.triplet_weight"] = kPositive;
+  t["global_init.translation.refine_huber"] = kPositive;
+  t["global_init.translation.max_refine_iterations"] = kNonNegative;
+  t["global_init.translation.num_threads"] = kNonNegative;
+  t["global_init.track_positioning.loss_scale_px"] = kPositive;
+  t["global_init.track_positioning.min_track_angle_deg"] = kMinAngleDeg;
+  t["global_init.track_positioning.max_iterations"] = kNonNegative;
+  t["global_init.track_positioning.num_threads"] = kNonNegative;
+  t["global_init.max_triplet_rotation_error_deg"] = Unbounded();  // <= 0 keeps every triplet
+  t["global_init.max_triplet_centre_error"] = Unbounded();        // <= 0 keeps every triplet
+  t["global_init.outliers.fraction"] = kFraction;
+  t["global_init.outliers.seed"] = Unbounded();
+  // local_motions, local_hessian (local_hessian/*.h)
+  t["local_motions.views"] = AtLeast(3);
+  t["local_motions.min_shared_tracks"] = kAtLeastOne;
+  t["local_motions.max_iterations"] = kNonNegative;
+  t["local_motions.neighbour_strides[]"] = kAtLeastOne;
+  t["local_hessian.max_iterations"] = kNonNegative;
+  t["local_hessian.attenuation_q"] = Unbounded();  // <= 0 disables the attenuation
+  t["local_hessian.huber_px"] = kPositive;
+  t["local_hessian.max_reprojection_px"] = kPositive;
+  t["local_hessian.min_points"] = kAtLeastOne;
+  t["local_hessian.prior_relative"] = kPositive;
+  t["local_hessian.min_eigenvalue_ratio"] = kNonNegative;
+  t["local_hessian.min_triangulation_angle_deg"] = kMinAngleDeg;
+  t["local_hessian.num_threads"] = kNonNegative;
+  // global_ba (global_ba/global_ba.h)
+  t["global_ba.max_rounds"] = kAtLeastOne;
+  t["global_ba.max_iterations_per_round"] = kAtLeastOne;
+  t["global_ba.round_tolerance"] = kNonNegative;
+  t["global_ba.function_tolerance"] = kNonNegative;
+  t["global_ba.parameter_tolerance"] = kNonNegative;
+  t["global_ba.irls_factor"] = Unbounded();   // <= 0 disables the reweighting
+  t["global_ba.huber_factor"] = Unbounded();  // <= 0 disables the Huber loss
+  t["global_ba.scalar_rotation_sigma"] = kPositive;
+  t["global_ba.scalar_position_sigma"] = kPositive;
+  t["global_ba.num_threads"] = kNonNegative;
+  t["global_ba.max_relinearizations"] = kNonNegative;
+  t["global_ba.relinearize_misfit"] = Unbounded();  // <= 0: always
+  t["global_ba.relinearize_tolerance"] = kPositive;
+  // point_based (mapper/pose_refinement.h)
+  AddBundleAdjuster("point_based.bundle", &t);
+  t["point_based.filter_max_error_px"] = Unbounded();  // <= 0: a single pass
+  // gcp (global_ba/gcp_constraint.h)
+  t["gcp.default_sigma"] = kPositive;
+  t["gcp.huber_sigmas"] = Unbounded();  // <= 0: plain least squares
+  t["gcp.min_angle_deg"] = kMinAngleDeg;
+  return t;
+}
+
+const Table& RangeTable() {
+  static const Table table = BuildTable();
+  return table;
+}
+
+std::string Number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.17g", v);
+  return buf;
+}
+
+void CheckValue(const nlohmann::json& value, const std::string& path, const std::string& origin) {
+  if (value.is_object()) {
+    for (const auto& [key, child] : value.items()) CheckValue(child, path.empty() ? key : path + "." + key, origin);
+    return;
+  }
+  if (value.is_array()) {
+    for (const nlohmann::json& element : value) CheckValue(element, path + "[]", origin);
+    return;
+  }
+  if (!value.is_number()) return;
+  const std::optional<OptionRange> range = RangeOfOption(path);
+  if (range && !range->Contains(value.get<double>())) {
+    const std::string bounds = range->Describe();  // "[0, 1]", "(0, 1)" or "> 0"
+    const bool bracketed = bounds[0] == '[' || bounds[0] == '(';
+    ThrowInputError(origin, 0,
+                    path + " = " + value.dump() + " is out of range " + (bracketed ? bounds : "(" + bounds + ")"));
+  }
+}
+
+}  // namespace
+
+std::string OptionRange::Describe() const {
+  if (!has_min && !has_max) return "any";
+  if (has_min && std::isinf(max)) return std::string(min_open ? "> " : ">= ") + Number(min);
+  return std::string(min_open ? "(" : "[") + Number(min) + ", " + Number(max) + (max_open ? ")" : "]");
+}
+
+bool OptionRange::Contains(double v) const {
+  if (!std::isfinite(v)) return false;
+  if (has_min && (min_open ? !(v > min) : !(v >= min))) return false;
+  if (has_max && (max_open ? !(v < max) : !(v <= max))) return false;
+  return true;
+}
+
+std::optional<OptionRange> RangeOfOption(const std::string& dotted_path) {
+  const auto it = RangeTable().find(dotted_path);
+  if (it == RangeTable().end()) return std::nullopt;
+  return it->second;
+}
+
+void CheckOptionRanges(const nlohmann::json& root, const std::string& origin) { CheckValue(root, "", origin); }
+
+}  // namespace pgba
