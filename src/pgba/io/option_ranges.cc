@@ -58,6 +58,7 @@ Table BuildTable() {
   t["features.sift.max_image_size"] = Unbounded();  // <= 0 disables the downscaling
   t["features.sift.contrast_threshold"] = kPositive;
   t["features.sift.edge_threshold"] = kPositive;
+  t["features.sift.first_octave"] = Closed(-1, 0);  // -1: 2x upsampled (OpenCV, COLMAP default), 0: as is
   t["features.max_parallel_images"] = kNonNegative;  // 0 = one per core
   // matching (matching/*.h)
   t["matching.pairs.window"] = kAtLeastOne;
@@ -70,6 +71,10 @@ Table BuildTable() {
   t["matching.descriptors.max_distance"] = kPositive;
   t["matching.descriptors.kdtree_trees"] = kAtLeastOne;
   t["matching.descriptors.checks"] = kAtLeastOne;
+  t["matching.descriptors.cascade_hashing.num_tables"] = Closed(1, 32);
+  t["matching.descriptors.cascade_hashing.bits_per_bucket"] = Closed(1, 16);
+  t["matching.descriptors.cascade_hashing.target_bucket_size"] = kAtLeastOne;
+  t["matching.descriptors.cascade_hashing.num_reranked"] = kAtLeastOne;
   AddRelativePose("matching.verification.relative_pose", &t);
   t["matching.verification.min_inlier_ratio"] = kFraction;
   t["matching.verification.max_rotation_sd_deg"] = kAngleDeg;
@@ -133,6 +138,8 @@ Table BuildTable() {
   t["global_init.outliers.seed"] = Unbounded();
   // local_motions, local_hessian (local_hessian/*.h)
   t["local_motions.views"] = AtLeast(3);
+  t["local_motions.max_views"] = AtLeast(2);
+  t["local_motions.min_tracks"] = kAtLeastOne;
   t["local_motions.min_shared_tracks"] = kAtLeastOne;
   t["local_motions.max_iterations"] = kNonNegative;
   t["local_motions.neighbour_strides[]"] = kAtLeastOne;
@@ -159,6 +166,7 @@ Table BuildTable() {
   t["global_ba.max_relinearizations"] = kNonNegative;
   t["global_ba.relinearize_misfit"] = Unbounded();  // <= 0: always
   t["global_ba.relinearize_tolerance"] = kPositive;
+  t["global_ba.relinearize_cost_tolerance"] = kNonNegative;
   // point_based (mapper/pose_refinement.h)
   AddBundleAdjuster("point_based.bundle", &t);
   t["point_based.filter_max_error_px"] = Unbounded();  // <= 0: a single pass
