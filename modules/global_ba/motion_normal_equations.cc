@@ -103,6 +103,8 @@ class PoseSystem {
     std::sort(pairs.begin(), pairs.end());
     pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
     pairs_ = pairs;
+    blocks_.assign(pairs_.size(), Matrix6d::Zero());
+    if (dense()) return;  // the sparse structure serves only the sparse factorisation
     std::vector<Eigen::Triplet<double>> entries;
     for (const auto& [a, b] : pairs_)
       for (int r = 0; r < 6; ++r)
@@ -122,8 +124,7 @@ class PoseSystem {
           value_index_[k][6 * r + c] = vr >= 0 && vc >= 0 && vr >= vc ? Index(vr, vc) : -1;
         }
     }
-    blocks_.assign(pairs_.size(), Matrix6d::Zero());
-    if (!dense()) solver_.analyzePattern(matrix_);
+    solver_.analyzePattern(matrix_);
   }
 
   int num_free() const { return num_free_; }
@@ -136,8 +137,6 @@ class PoseSystem {
     for (Matrix6d& b : blocks_) b.setZero();
   }
   Matrix6d& block(int id) { return blocks_[id]; }
-  const Matrix6d& block(int id) const { return blocks_[id]; }
-  int num_poses() const { return static_cast<int>(var_.size() / 6); }
 
   // Factorises the assembled blocks plus `diagonal` (per free variable); false on failure.
   // Small systems are factorised densely (blocked Cholesky: the pose system of a block of a
