@@ -125,6 +125,23 @@ std::string RunReportHtml(const HtmlReportInput& in) {
   }
   h << "</table>\n";
 
+  // Self-calibration: each estimated camera parameter, initial -> final (stddev).
+  if (r.contains("intrinsics") && r["intrinsics"].is_array() && !r["intrinsics"].empty()) {
+    h << "<h2>Estimated intrinsics</h2><table><tr><th>camera</th><th>model</th><th>parameter</th><th>initial</th>"
+         "<th>final</th><th>stddev</th></tr>\n";
+    for (const auto& camera : r["intrinsics"])
+      for (const auto& p : camera.value("params", nlohmann::json::array())) {
+        const auto number = [&p](const char* key) {
+          return p.contains(key) && p[key].is_number() ? FormatNumber("%.6g", p[key].get<double>()) : std::string("-");
+        };
+        h << "<tr><td>" << camera.value("camera_id", 0) << "</td><td>" << XmlEscape(camera.value("model", ""))
+          << "</td><td>" << XmlEscape(p.value("name", "")) << "</td><td class=\"n\">" << number("initial")
+          << "</td><td class=\"n\">" << number("final") << "</td><td class=\"n\">" << number("stddev")
+          << "</td></tr>\n";
+      }
+    h << "</table>\n";
+  }
+
   if (r.contains("stages")) {
     std::vector<std::pair<int, std::string>> order;
     for (const auto& [name, st] : r["stages"].items()) order.push_back({st.value("order", 0), name});

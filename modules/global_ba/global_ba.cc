@@ -16,6 +16,7 @@
 #include "modules/global_ba/motion_selection.h"
 #include "modules/global_ba/motion_similarity.h"
 #include "modules/global_ba/motion_weighting.h"
+#include "pgba/optim/intrinsics.h"
 #include "pgba/optim/pose_parameterization.h"
 #include "pgba/util/error.h"
 #include "pgba/util/id_ordered_map.h"
@@ -37,9 +38,17 @@ struct MotionTerm {
   double irls_weight = 1.0;
 };
 
+// A camera's global intrinsic unknowns: its free parameter values (inline storage, so that they
+// sit in the contiguous IdOrderedMap like the poses).
+struct IntrinsicsBlock {
+  std::vector<int> free;
+  Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 8, 1> x;
+};
+
 struct Unknowns {
   // Contiguous in id order: Ceres orders the Schur complement's blocks by address (id_ordered_map.h).
   IdOrderedMap<PoseBlock> poses;
+  IdOrderedMap<IntrinsicsBlock> intrinsics;  // per camera (self-calibration)
   std::vector<MotionTerm> terms;
   const GcpInput* gcps = nullptr;  // optional
   std::vector<GcpTripletTerm> gcp_terms;
@@ -52,10 +61,17 @@ std::map<uint32_t, Pose> CurrentPoses(const Unknowns& u) {
   return poses;
 }
 
+std::vector<int> IntrinsicSizes(const LocalHessian& h) {
+  std::vector<int> sizes;
+  for (const std::vector<int>& free : h.intrinsic_free) sizes.push_back(static_cast<int>(free.size()));
+  return sizes;
+}
+
 MotionResidual* MakeResidual(const Unknowns& u, const MotionTerm& t) {
   std::vector<Eigen::Matrix3d> R0;
   for (const uint32_t id : t.hessian->image_ids) R0.push_back(u.poses.at(id).R0);
-  return new MotionResidual(R0, t.sim, t.hessian->local_poses, t.W, t.newton_step);
+  return new MotionResidual(R0, t.sim, t.hessian->local_poses, t.W, t.newton_step, t.hessian->intrinsics0,
+                            IntrinsicSizes(*t.hessian));
 }
 
 std::vector<double*> PoseBlocksOf(Unknowns& u, const MotionTerm& t) {
@@ -64,12 +80,19 @@ std::vector<double*> PoseBlocksOf(Unknowns& u, const MotionTerm& t) {
   return blocks;
 }
 
+std::vector<double*> IntrinsicBlocksOf(Unknowns& u, const MotionTerm& t) {
+  std::vector<double*> blocks;
+  for (const uint32_t id : t.hessian->intrinsic_camera_ids) blocks.push_back(u.intrinsics.at(id).x.data());
+  return blocks;
+}
+
 // Fitting error e_s = |W_s (x_s - x0_s)| / unit_s at the current state.
 double FittingError(const Unknowns& u, const MotionTerm& t) {
   const std::unique_ptr<MotionResidual> f(MakeResidual(u, t));
-  std::vector<const double*> poses;
+  std::vector<const double*> poses, intrinsics;
   for (const uint32_t id : t.hessian->image_ids) poses.push_back(u.poses.at(id).x.data());
-  return f->Evaluate(poses, t.sim.x.data()).norm() / t.unit;
+  for (const uint32_t id : t.hessian->intrinsic_camera_ids) intrinsics.push_back(u.intrinsics.at(id).x.data());
+  return f->Evaluate(poses, t.sim.x.data(), intrinsics).norm() / t.unit;
 }
 
 // Robust scale of the fitting errors and the IRLS weights from them; the errors in `errors`.
@@ -164,6 +187,12 @@ ceres::Solver::Summary SolveRound(const GlobalBAOptions& options, double sigma, 
     problem.AddParameterBlock(block.x.data(), 6);
     ordering->AddElementToGroup(block.x.data(), 1);
   }
+  for (auto& [id, block] : u->intrinsics) {
+    problem.AddParameterBlock(block.x.data(), static_cast<int>(block.x.size()));
+    // A group of their own after the poses: within a group Ceres orders by address, and the
+    // intrinsics live in another array than the poses.
+    ordering->AddElementToGroup(block.x.data(), 2);
+  }
   for (MotionTerm& t : u->terms) {
     problem.AddParameterBlock(t.sim.x.data(), 7);
     ordering->AddElementToGroup(t.sim.x.data(), 0);  // eliminated first (Schur)
@@ -172,6 +201,7 @@ ceres::Solver::Summary SolveRound(const GlobalBAOptions& options, double sigma, 
     ceres::LossFunction* loss = new ceres::ScaledLoss(huber, t.irls_weight, ceres::TAKE_OWNERSHIP);
     std::vector<double*> blocks = PoseBlocksOf(*u, t);
     blocks.push_back(t.sim.x.data());
+    for (double* k : IntrinsicBlocksOf(*u, t)) blocks.push_back(k);
     problem.AddResidualBlock(MakeResidual(*u, t), loss, blocks);
   }
   for (const GcpTripletTerm& g : u->gcp_terms) {
@@ -206,6 +236,7 @@ struct RoundSummary {
   std::string message;
   double initial_cost = 0.0, final_cost = 0.0;
   int iterations = 0;
+  Eigen::MatrixXd intrinsics_inverse_hessian;  // block solver only (MotionBlockSummary)
 };
 
 // Whether a round can run on the motion-block normal equations (motion_normal_equations.h):
@@ -218,11 +249,19 @@ bool BlockSolverApplies(const GlobalBAOptions& options, double sigma, const Unkn
 RoundSummary SolveRoundByBlocks(const GlobalBAOptions& options, int round, bool report_start, Unknowns* u,
                                 GlobalBASummary* summary, const GlobalBAIterationCallback& callback) {
   MotionBlockProblem problem;
-  std::map<uint32_t, int> index;
+  std::map<uint32_t, int> index, intrinsic_index;
   for (auto& [id, block] : u->poses) {
     index[id] = static_cast<int>(problem.poses.size());
     problem.poses.push_back(&block);
   }
+  // The solver works on Eigen::VectorXd: copies, written back after the solve.
+  std::vector<Eigen::VectorXd> intrinsics;
+  intrinsics.reserve(u->intrinsics.size());
+  for (auto& [id, block] : u->intrinsics) {
+    intrinsic_index[id] = static_cast<int>(intrinsics.size());
+    intrinsics.emplace_back(block.x);
+  }
+  for (Eigen::VectorXd& k : intrinsics) problem.intrinsics.push_back(&k);
   std::vector<std::unique_ptr<MotionResidual>> residuals;
   std::vector<Eigen::MatrixXd> scalar_h;
   scalar_h.reserve(u->terms.size());  // stable addresses
@@ -238,6 +277,7 @@ RoundSummary SolveRoundByBlocks(const GlobalBAOptions& options, int round, bool 
       term.h = &scalar_h.back();
     }
     for (const uint32_t id : t.hessian->image_ids) term.poses.push_back(index.at(id));
+    for (const uint32_t id : t.hessian->intrinsic_camera_ids) term.intrinsics.push_back(intrinsic_index.at(id));
     term.sim = t.sim.x.data();
     term.weight = t.irls_weight;
     problem.terms.push_back(std::move(term));
@@ -267,7 +307,10 @@ RoundSummary SolveRoundByBlocks(const GlobalBAOptions& options, int round, bool 
     }
   };
   const MotionBlockSummary s = SolveMotionBlocks(problem, so, report);
-  return {!s.usable, s.message, s.initial_cost, s.final_cost, s.iterations};
+  for (auto& [id, block] : u->intrinsics) block.x = intrinsics[intrinsic_index.at(id)];
+  RoundSummary out{!s.usable, s.message, s.initial_cost, s.final_cost, s.iterations};
+  out.intrinsics_inverse_hessian = s.intrinsics_inverse_hessian;
+  return out;
 }
 
 RoundSummary SolveRoundByCeres(const GlobalBAOptions& options, double sigma, int round, bool report_start,
@@ -275,6 +318,54 @@ RoundSummary SolveRoundByCeres(const GlobalBAOptions& options, double sigma, int
   const ceres::Solver::Summary s = SolveRound(options, sigma, round, report_start, u, summary, callback);
   return {s.termination_type == ceres::FAILURE, s.message, s.initial_cost, s.final_cost,
           static_cast<int>(s.iterations.size()) - 1};
+}
+
+// The global intrinsic unknowns of the cameras of `h` not yet in `u`, started at h's values
+// (every motion of a camera carries the same free set, the one intrinsics.h selected).
+void AddIntrinsicUnknowns(const LocalHessian& h, Unknowns* u) {
+  for (size_t c = 0, offset = 0; c < h.intrinsic_camera_ids.size(); offset += h.intrinsic_free[c].size(), ++c) {
+    const uint32_t id = h.intrinsic_camera_ids[c];
+    if (u->intrinsics.count(id)) {
+      if (u->intrinsics.at(id).free != h.intrinsic_free[c])
+        throw InputError("global BA: the local hessians hold different intrinsic unknowns for camera " +
+                         std::to_string(id));
+      continue;
+    }
+    IntrinsicsBlock& block = u->intrinsics[id];
+    block.free = h.intrinsic_free[c];
+    block.x = h.intrinsics0.segment(offset, block.free.size());
+  }
+}
+
+// Per-coordinate pixel noise variance pooled over the motions (their local BA residuals).
+double PooledNoiseVariance(const Unknowns& u) {
+  double sum = 0.0, dof = 0.0;
+  for (const MotionTerm& t : u.terms) {
+    const LocalHessian& h = *t.hessian;
+    const double d = 2.0 * h.num_observations - 3.0 * h.num_points - InformativeDimension(h.num_views());
+    if (d > 0 && std::isfinite(h.rms_px)) {
+      sum += h.rms_px * h.rms_px * h.num_observations;
+      dof += d;
+    }
+  }
+  return dof > 0 ? sum / dof : std::numeric_limits<double>::quiet_NaN();
+}
+
+std::map<uint32_t, GlobalIntrinsics> ResultIntrinsics(const Unknowns& u, const std::map<uint32_t, Eigen::VectorXd>& initial,
+                                                      const Eigen::MatrixXd& inverse_hessian) {
+  std::map<uint32_t, GlobalIntrinsics> out;
+  const double variance = PooledNoiseVariance(u);
+  int row = 0;
+  for (const auto& [id, block] : u.intrinsics) {
+    GlobalIntrinsics& g = out[id];
+    g.free = block.free;
+    g.initial = initial.at(id);
+    g.values = block.x;
+    g.stddev = Eigen::VectorXd::Constant(block.x.size(), std::numeric_limits<double>::quiet_NaN());
+    for (int i = 0; i < block.x.size(); ++i, ++row)
+      if (inverse_hessian.rows() > row) g.stddev(i) = std::sqrt(std::max(0.0, inverse_hessian(row, row)) * variance);
+  }
+  return out;
 }
 
 GlobalBAResult RunGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const std::vector<LocalMotion>& motions,
@@ -303,6 +394,7 @@ GlobalBAResult RunGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const 
                 ? InitializeSimilarity(global, t.hessian->local_poses, motion.global_to_local)
                 : SimilarityFromSim3(global, motion.global_to_local);
     u.terms.push_back(t);
+    AddIntrinsicUnknowns(*t.hessian, &u);
   }
   if (gcps && !gcps->gcps.empty()) {
     std::vector<const LocalHessian*> used;
@@ -320,6 +412,10 @@ GlobalBAResult RunGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const 
   summary.num_poses = static_cast<int>(u.poses.size());
   summary.num_triplets = static_cast<int>(u.terms.size());
   summary.num_params = 6 * summary.num_poses + 7 * summary.num_triplets;
+  for (const auto& [id, block] : u.intrinsics) summary.num_params += static_cast<int>(block.x.size());
+  Eigen::MatrixXd intrinsics_inverse_hessian;
+  std::map<uint32_t, Eigen::VectorXd> initial_intrinsics;
+  for (const auto& [id, block] : u.intrinsics) initial_intrinsics[id] = block.x;
   summary.num_triplets_excluded = sel.num_excluded;
   summary.excluded_images = sel.excluded_images;
   summary.num_gcp_residuals = static_cast<int>(u.gcp_terms.size());
@@ -336,6 +432,7 @@ GlobalBAResult RunGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const 
                                : SolveRoundByCeres(options, sigma, round, report_start, &u, &summary, callback);
     if (round == 0) summary.initial_cost = s.initial_cost;
     summary.final_cost = s.final_cost;
+    intrinsics_inverse_hessian = s.intrinsics_inverse_hessian;
     summary.rounds = round + 1;
     for (auto& [id, block] : u.poses) block.Relinearize();
     for (MotionTerm& t : u.terms) t.sim.Relinearize();
@@ -351,6 +448,7 @@ GlobalBAResult RunGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const 
   summary.misfit_ratio_initial = summary.misfit_ratio;
 
   result.poses = CurrentPoses(u);
+  result.intrinsics = ResultIntrinsics(u, initial_intrinsics, intrinsics_inverse_hessian);
   result.similarities.assign(motions.size(), Sim3());
   result.irls_weights.assign(motions.size(), 0.0);
   for (const MotionTerm& t : u.terms) {
@@ -389,8 +487,11 @@ double Displacement(const GlobalBAResult& result, const std::vector<LocalHessian
     }
     for (const PoseBlock& b : blocks) x.push_back(b.x.data());
     const MotionSimilarity sim = SimilarityFromSim3(global, result.similarities[i]);
-    const MotionResidual f(R0, sim, h.local_poses, MotionWeightMatrix(h, options));
-    d.push_back(f.Evaluate(x, sim.x.data()).norm() / (ResidualUnit(h, options) * std::sqrt(v)));
+    const MotionResidual f(R0, sim, h.local_poses, MotionWeightMatrix(h, options), Eigen::VectorXd(), h.intrinsics0,
+                           IntrinsicSizes(h));
+    std::vector<const double*> k;
+    for (const uint32_t id : h.intrinsic_camera_ids) k.push_back(result.intrinsics.at(id).values.data());
+    d.push_back(f.Evaluate(x, sim.x.data(), k).norm() / (ResidualUnit(h, options) * std::sqrt(v)));
   }
   return d.empty() ? 0.0 : UpperMedian(d);
 }
@@ -422,7 +523,19 @@ std::vector<int> RelinearizeAt(const Reconstruction& tracks, const LocalHessianO
     predicted.push_back(std::move(t));
     index.push_back(static_cast<int>(i));
   }
-  LocalHessianResult lr = ComputeLocalHessians(tracks, predicted, at_solution, shares);
+  LocalHessianResult lr;
+  if (result.intrinsics.empty()) {
+    lr = ComputeLocalHessians(tracks, predicted, at_solution, shares);
+  } else {
+    // Self-calibration: the models re-taken with the solution's intrinsics, the same unknowns.
+    Reconstruction at = tracks;
+    FreeIntrinsics free;
+    for (const auto& [id, k] : result.intrinsics) {
+      ScatterIntrinsics(k.values, k.free, &at.cameras.at(id));
+      free[id] = k.free;
+    }
+    lr = ComputeLocalHessians(at, predicted, at_solution, shares, &free);
+  }
   std::vector<int> relinearized;
   for (size_t j = 0; j < index.size(); ++j) {
     if (lr.hessians[j].status != LocalHessianStatus::kOk) continue;  // keeps its previous model
@@ -485,6 +598,11 @@ GlobalBAResult CheckedRelinearization(const Reconstruction& tracks, const LocalH
   // The kept state: the initial poses (cost of the models taken there), then each kept step.
   GlobalBAResult kept = trial;
   for (auto& [id, pose] : kept.poses) pose = initial_poses.at(id);
+  for (auto& [id, k] : kept.intrinsics) {
+    k.values = k.initial;
+    k.stddev.setConstant(std::numeric_limits<double>::quiet_NaN());
+  }
+  const std::map<uint32_t, GlobalIntrinsics> first = trial.intrinsics;
   double cost = TotalRobustCost(models, trial);
   for (int k = 1; k <= options.max_relinearizations; ++k) {
     Timer pass;
@@ -525,6 +643,7 @@ GlobalBAResult CheckedRelinearization(const Reconstruction& tracks, const LocalH
   total.misfit_ratio = kept.summary.misfit_ratio;
   total.seconds = timer.Seconds();
   kept.summary = total;
+  for (auto& [id, k] : kept.intrinsics) k.initial = first.at(id).initial;  // before every pass
   return kept;
 }
 
@@ -543,6 +662,7 @@ GlobalBAResult RelinearizedGlobalBA(const Reconstruction& tracks, const LocalHes
   GlobalBAResult result = RunGlobalBA(initial_poses, motions, hessians, pointless, callback, gcps);
   GlobalBASummary total = result.summary;
   const bool trigger = options.relinearize_misfit <= 0 || total.misfit_ratio > options.relinearize_misfit;
+  const std::map<uint32_t, GlobalIntrinsics> first = result.intrinsics;
   if (options.max_relinearizations > 0 && trigger) {
     PGBA_LOG_INFO << "global BA: misfit " << total.misfit_ratio << " (local models disagree with their consensus): "
                   << "re-linearising the local hessians at the solution";
@@ -575,6 +695,7 @@ GlobalBAResult RelinearizedGlobalBA(const Reconstruction& tracks, const LocalHes
   }
   total.seconds = timer.Seconds();
   result.summary = total;
+  for (auto& [id, k] : result.intrinsics) k.initial = first.at(id).initial;  // before every pass
   return result;
 }
 

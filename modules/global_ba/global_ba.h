@@ -144,7 +144,7 @@ struct GlobalBASummary {
   double initial_cost = 0.0;
   double final_cost = 0.0;
   double seconds = 0.0;
-  // Unknowns: 6 per pose + 7 per triplet.
+  // Unknowns: 6 per pose + 7 per triplet + the intrinsic unknowns.
   int num_params = 0;
   int num_poses = 0;
   int num_triplets = 0;  // used
@@ -171,8 +171,21 @@ struct GlobalBASummary {
   double relinearization_displacement = std::numeric_limits<double>::quiet_NaN();
 };
 
+// Self-calibration: one camera's intrinsic unknowns of the global BA (paper, "Self-calibrating
+// bundle adjustment": global unknowns per camera, observed through every motion's h).
+struct GlobalIntrinsics {
+  std::vector<int> free;   // indices into Camera::params
+  Eigen::VectorXd initial;  // their values before the adjustment
+  Eigen::VectorXd values;   // and after
+  // Standard deviations: sqrt(diag((J^T J)^-1)) times the pixel noise sigma of the motions'
+  // observations (NaN where not computed: the Ceres path with a robust loss or GCPs).
+  Eigen::VectorXd stddev;
+};
+
 struct GlobalBAResult {
   std::map<uint32_t, Pose> poses;  // refined poses of the images of the used triplets
+  // Per camera with intrinsic unknowns in the local Hessians (empty: none).
+  std::map<uint32_t, GlobalIntrinsics> intrinsics;
   // Final global->local similarity per input triplet (identity for unused ones) and the
   // triplet's final IRLS weight (0 for unused ones).
   std::vector<Sim3> similarities;

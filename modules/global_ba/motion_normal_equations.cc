@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 namespace pgba {
 
@@ -32,7 +33,14 @@ std::vector<const double*> PosePointers(const MotionBlockProblem& p, const Motio
   return out;
 }
 
-// One motion's normal equations at the current state (undamped).
+std::vector<const double*> IntrinsicPointers(const MotionBlockProblem& p, const MotionBlockTerm& t) {
+  std::vector<const double*> out;
+  for (const int i : t.intrinsics) out.push_back(p.intrinsics[i]->data());
+  return out;
+}
+
+// One motion's normal equations at the current state (undamped). With K intrinsic rows in h
+// (J = identity on them), J^T h J adds H_pk = A^T h_pk, H_sk = B^T h_pk, H_kk = h_kk.
 struct TermSystem {
   std::vector<Matrix6d> A;   // d dx_k / d pose_k
   std::vector<Matrix67> B;   // d dx_k / d sim
@@ -41,14 +49,19 @@ struct TermSystem {
   Matrix7d Hss;
   Eigen::VectorXd gp;  // 6N
   Vector7d gs;
+  Eigen::MatrixXd Hpk;  // 6N x K
+  Eigen::Matrix<double, 7, Eigen::Dynamic> Hsk;  // 7 x K
+  Eigen::MatrixXd Hkk;  // K x K
+  Eigen::VectorXd gk;   // K
 };
 
 TermSystem Linearize(const MotionBlockProblem& p, const MotionBlockTerm& t, const Eigen::MatrixXd& h) {
   TermSystem s;
   const int n = static_cast<int>(t.poses.size());
+  const int K = t.residual->num_intrinsics();
   Eigen::VectorXd dx;
   std::vector<Eigen::Matrix<double, 6, 13>> J;
-  t.residual->Linearize(PosePointers(p, t), t.sim, &dx, &J);
+  t.residual->Linearize(PosePointers(p, t), t.sim, IntrinsicPointers(p, t), &dx, &J);
   const Eigen::VectorXd u = t.residual->W().transpose() * (t.residual->W() * dx - t.residual->offset());
   s.A.resize(n);
   s.B.resize(n);
@@ -56,32 +69,42 @@ TermSystem Linearize(const MotionBlockProblem& p, const MotionBlockTerm& t, cons
     s.A[k] = J[k].leftCols<6>();
     s.B[k] = J[k].rightCols<7>();
   }
-  // h A and h B, column block by column block: O(N^2).
+  // h A and h B over the pose rows, column block by column block: O(N^2).
   Eigen::MatrixXd hA(6 * n, 6 * n);
   Eigen::Matrix<double, Eigen::Dynamic, 7> hB = Eigen::Matrix<double, Eigen::Dynamic, 7>::Zero(6 * n, 7);
   for (int l = 0; l < n; ++l) {
-    hA.middleCols<6>(6 * l).noalias() = h.middleCols<6>(6 * l) * s.A[l];
-    hB.noalias() += h.middleCols<6>(6 * l) * s.B[l];
+    hA.middleCols<6>(6 * l).noalias() = h.block(0, 6 * l, 6 * n, 6) * s.A[l];
+    hB.noalias() += h.block(0, 6 * l, 6 * n, 6) * s.B[l];
   }
   s.Hpp.resize(n * n);
   s.Hps.resize(6 * n, 7);
   s.Hss.setZero();
   s.gp.resize(6 * n);
   s.gs.setZero();
+  s.Hpk.resize(6 * n, K);
+  s.Hsk = Eigen::Matrix<double, 7, Eigen::Dynamic>::Zero(7, K);
   for (int k = 0; k < n; ++k) {
     for (int l = 0; l < n; ++l) s.Hpp[k * n + l].noalias() = t.weight * s.A[k].transpose() * hA.block<6, 6>(6 * k, 6 * l);
     s.Hps.middleRows<6>(6 * k).noalias() = t.weight * s.A[k].transpose() * hB.middleRows<6>(6 * k);
     s.Hss.noalias() += t.weight * s.B[k].transpose() * hB.middleRows<6>(6 * k);
     s.gp.segment<6>(6 * k).noalias() = t.weight * s.A[k].transpose() * u.segment<6>(6 * k);
     s.gs.noalias() += t.weight * s.B[k].transpose() * u.segment<6>(6 * k);
+    if (K > 0) {
+      const auto h_pk = h.block(6 * k, 6 * n, 6, K);
+      s.Hpk.middleRows<6>(6 * k).noalias() = t.weight * s.A[k].transpose() * h_pk;
+      s.Hsk.noalias() += t.weight * s.B[k].transpose() * h_pk;
+    }
   }
+  s.Hkk = t.weight * h.bottomRightCorner(K, K);
+  s.gk = t.weight * u.tail(K);
   return s;
 }
 
 Vector7d Clamped(const Vector7d& d) { return d.cwiseMax(kMinDiagonal).cwiseMin(kMaxDiagonal); }
 
 // The sparse pose system: free variables (the gauge's are left out), one 6 x 6 block per pair
-// of poses that share a motion, lower triangle, with the value index of every block entry.
+// of poses that share a motion, lower triangle, with the value index of every block entry;
+// then the intrinsic unknowns (after every pose variable), a dense border of a few rows.
 class PoseSystem {
  public:
   explicit PoseSystem(const MotionBlockProblem& p) {
@@ -93,7 +116,15 @@ class PoseSystem {
         const bool fixed = i == p.fixed_pose || (i == p.scale_pose && c == p.scale_coord);
         if (!fixed) var_[6 * i + c] = n++;
       }
+    num_pose_vars_ = n;
+    for (const Eigen::VectorXd* k : p.intrinsics) {
+      intrinsic_var_.push_back(n);
+      n += static_cast<int>(k->size());
+    }
     num_free_ = n;
+    num_intrinsic_vars_ = num_free_ - num_pose_vars_;
+    border_.setZero(num_intrinsic_vars_, num_pose_vars_);
+    corner_.setZero(num_intrinsic_vars_, num_intrinsic_vars_);
     std::vector<std::pair<int, int>> pairs;
     for (int i = 0; i < m; ++i) pairs.emplace_back(i, i);
     for (const MotionBlockTerm& t : p.terms)
@@ -112,6 +143,8 @@ class PoseSystem {
           const int vr = var_[6 * a + r], vc = var_[6 * b + c];
           if (vr >= 0 && vc >= 0 && vr >= vc) entries.emplace_back(vr, vc, 1.0);
         }
+    for (int r = num_pose_vars_; r < num_free_; ++r)
+      for (int c = 0; c <= r; ++c) entries.emplace_back(r, c, 1.0);  // border and corner: dense
     matrix_.resize(num_free_, num_free_);
     matrix_.setFromTriplets(entries.begin(), entries.end());
     matrix_.makeCompressed();
@@ -128,21 +161,31 @@ class PoseSystem {
   }
 
   int num_free() const { return num_free_; }
+  int num_pose_vars() const { return num_pose_vars_; }
   int var(int pose, int coord) const { return var_[6 * pose + coord]; }
+  // Variable of parameter i of intrinsic block b.
+  int intrinsic_var(int block, int i) const { return intrinsic_var_[block] + i; }
   // Block id of the pair (a, b), a >= b.
   int Block(int a, int b) const {
     return static_cast<int>(std::lower_bound(pairs_.begin(), pairs_.end(), std::make_pair(a, b)) - pairs_.begin());
   }
   void Zero() {
     for (Matrix6d& b : blocks_) b.setZero();
+    border_.setZero();
+    corner_.setZero();
   }
   Matrix6d& block(int id) { return blocks_[id]; }
+  // Intrinsic variable row, pose variable column (both as returned by var / intrinsic_var).
+  double& border(int intrinsic_var, int pose_var) { return border_(intrinsic_var - num_pose_vars_, pose_var); }
+  // Lower triangle used (row >= col).
+  double& corner(int row_var, int col_var) { return corner_(row_var - num_pose_vars_, col_var - num_pose_vars_); }
 
   // Factorises the assembled blocks plus `diagonal` (per free variable); false on failure.
   // Small systems are factorised densely (blocked Cholesky: the pose system of a block of a
   // few hundred images is nearly dense, where the simplicial sparse factorisation is ~10x
   // slower), large ones sparsely.
   bool Factorize(const Eigen::VectorXd& diagonal) {
+    const int P = num_pose_vars_;
     if (dense()) {
       dense_.setZero(num_free_, num_free_);
       for (size_t k = 0; k < pairs_.size(); ++k) {
@@ -153,6 +196,8 @@ class PoseSystem {
             if (vr >= 0 && vc >= 0 && vr >= vc) dense_(vr, vc) += blocks_[k](r, c);
           }
       }
+      dense_.bottomLeftCorner(num_intrinsic_vars_, P) = border_;
+      dense_.bottomRightCorner(num_intrinsic_vars_, num_intrinsic_vars_) = corner_;
       dense_.diagonal() += diagonal;
       dense_llt_.compute(dense_);
       return dense_llt_.info() == Eigen::Success;
@@ -162,6 +207,10 @@ class PoseSystem {
     for (size_t k = 0; k < pairs_.size(); ++k)
       for (int e = 0; e < 36; ++e)
         if (value_index_[k][e] >= 0) values[value_index_[k][e]] += blocks_[k](e / 6, e % 6);
+    for (int r = P; r < num_free_; ++r) {
+      for (int c = 0; c < P; ++c) values[Index(r, c)] += border_(r - P, c);
+      for (int c = P; c <= r; ++c) values[Index(r, c)] += corner_(r - P, c - P);
+    }
     for (int i = 0; i < num_free_; ++i) matrix_.coeffRef(i, i) += diagonal(i);
     solver_.factorize(matrix_);
     return solver_.info() == Eigen::Success;
@@ -180,10 +229,12 @@ class PoseSystem {
   }
 
   std::vector<int> var_;
-  int num_free_ = 0;
+  std::vector<int> intrinsic_var_;
+  int num_free_ = 0, num_pose_vars_ = 0, num_intrinsic_vars_ = 0;
   std::vector<std::pair<int, int>> pairs_;
   std::vector<std::array<int, 36>> value_index_;
   std::vector<Matrix6d> blocks_;
+  Eigen::MatrixXd border_, corner_;
   Eigen::SparseMatrix<double> matrix_;
   Eigen::MatrixXd dense_;  // lower triangle used
   Eigen::LLT<Eigen::MatrixXd> dense_llt_;
@@ -194,24 +245,86 @@ class PoseSystem {
 
 double MotionBlockCost(const MotionBlockProblem& p) {
   double cost = 0.0;
-  for (const MotionBlockTerm& t : p.terms) cost += 0.5 * t.weight * t.residual->Evaluate(PosePointers(p, t), t.sim).squaredNorm();
+  for (const MotionBlockTerm& t : p.terms)
+    cost += 0.5 * t.weight * t.residual->Evaluate(PosePointers(p, t), t.sim, IntrinsicPointers(p, t)).squaredNorm();
   return cost;
 }
+
+namespace {
+
+// The per-term maps from local rows to system variables.
+struct TermIndex {
+  std::vector<int> block_of;  // k * N + l -> pose pair block id
+  std::vector<int> kvar;      // intrinsic row of h -> variable
+};
+
+// Assembles the reduced system of the current linearisation with each motion's similarity
+// eliminated (its 7 x 7 block damped by diag / radius; radius = inf: undamped): the system's
+// blocks, the right-hand side -g + H_x,sim H_sim^-1 g_sim, and each term's H_sim^-1.
+void AssembleReduced(const MotionBlockProblem& p, const std::vector<TermSystem>& sys,
+                     const std::vector<TermIndex>& index, const Eigen::VectorXd& gradient, double radius,
+                     PoseSystem* system, Eigen::VectorXd* rhs, std::vector<Matrix7d>* Hss_inv) {
+  system->Zero();
+  *rhs = -gradient;
+  Hss_inv->resize(p.terms.size());
+  for (size_t ti = 0; ti < p.terms.size(); ++ti) {
+    const TermSystem& s = sys[ti];
+    const MotionBlockTerm& t = p.terms[ti];
+    const TermIndex& ix = index[ti];
+    const int n = static_cast<int>(t.poses.size());
+    const int K = static_cast<int>(ix.kvar.size());
+    Matrix7d Hss = s.Hss;
+    if (std::isfinite(radius)) Hss.diagonal() += Clamped(s.Hss.diagonal()) / radius;
+    (*Hss_inv)[ti] = Hss.ldlt().solve(Matrix7d::Identity());
+    const Eigen::Matrix<double, Eigen::Dynamic, 7> M = s.Hps * (*Hss_inv)[ti];  // 6N x 7
+    const Eigen::VectorXd Mg = M * s.gs;
+    for (int k = 0; k < n; ++k) {
+      for (int l = 0; l < n; ++l) {
+        if (t.poses[k] < t.poses[l]) continue;  // lower triangle by pose index
+        Matrix6d b = s.Hpp[k * n + l] - M.middleRows<6>(6 * k) * s.Hps.middleRows<6>(6 * l).transpose();
+        system->block(ix.block_of[k * n + l]) += b;
+      }
+      for (int c = 0; c < 6; ++c) {
+        const int v = system->var(t.poses[k], c);
+        if (v >= 0) (*rhs)(v) += Mg(6 * k + c);
+      }
+    }
+    if (K == 0) continue;
+    // Intrinsic rows: H_kx - H_k,sim H_sim^-1 H_sim,x for x = poses and intrinsics.
+    const Eigen::Matrix<double, Eigen::Dynamic, 7> N = s.Hsk.transpose() * (*Hss_inv)[ti];  // K x 7
+    const Eigen::MatrixXd pose_border = s.Hpk.transpose() - N * s.Hps.transpose();          // K x 6N
+    const Eigen::MatrixXd corner = s.Hkk - N * s.Hsk;
+    const Eigen::VectorXd Ng = N * s.gs;
+    for (int i = 0; i < K; ++i) {
+      for (int k = 0; k < n; ++k)
+        for (int c = 0; c < 6; ++c)
+          if (const int v = system->var(t.poses[k], c); v >= 0) system->border(ix.kvar[i], v) += pose_border(i, 6 * k + c);
+      for (int j = 0; j < K; ++j)
+        if (ix.kvar[i] >= ix.kvar[j]) system->corner(ix.kvar[i], ix.kvar[j]) += corner(i, j);
+      (*rhs)(ix.kvar[i]) += Ng(i);
+    }
+  }
+}
+
+}  // namespace
 
 MotionBlockSummary SolveMotionBlocks(const MotionBlockProblem& p, const MotionBlockSolverOptions& options,
                                      const MotionBlockCallback& callback) {
   MotionBlockSummary summary;
   PoseSystem system(p);
   std::vector<const Eigen::MatrixXd*> h(p.terms.size());
-  std::vector<std::vector<int>> block_of(p.terms.size());  // per term, k * N + l -> block id (k >= l by pose)
+  std::vector<TermIndex> index(p.terms.size());
   for (size_t ti = 0; ti < p.terms.size(); ++ti) {
     const MotionBlockTerm& t = p.terms[ti];
     h[ti] = t.h;
     const int n = static_cast<int>(t.poses.size());
-    block_of[ti].resize(n * n);
+    index[ti].block_of.resize(n * n);
     for (int k = 0; k < n; ++k)
       for (int l = 0; l < n; ++l)
-        block_of[ti][k * n + l] = system.Block(std::max(t.poses[k], t.poses[l]), std::min(t.poses[k], t.poses[l]));
+        index[ti].block_of[k * n + l] =
+            system.Block(std::max(t.poses[k], t.poses[l]), std::min(t.poses[k], t.poses[l]));
+    for (const int b : t.intrinsics)
+      for (int i = 0; i < p.intrinsics[b]->size(); ++i) index[ti].kvar.push_back(system.intrinsic_var(b, i));
   }
 
   double cost = MotionBlockCost(p);
@@ -224,54 +337,42 @@ MotionBlockSummary SolveMotionBlocks(const MotionBlockProblem& p, const MotionBl
   if (callback) callback(0, cost);
   double radius = options.initial_radius, nu = 2.0;
   const int m = static_cast<int>(p.poses.size());
+  const int num_intrinsic_blocks = static_cast<int>(p.intrinsics.size());
   std::vector<TermSystem> sys(p.terms.size());
   bool relinearize = true;
-  Eigen::VectorXd gradient(system.num_free()), pose_diagonal(system.num_free());
+  Eigen::VectorXd gradient(system.num_free()), diagonal(system.num_free());
+  // Linearises every term at the current state: the gradient and diag(J^T J) per variable.
+  const auto linearize_all = [&]() {
+    gradient.setZero();
+    diagonal.setZero();
+    for (size_t ti = 0; ti < p.terms.size(); ++ti) {
+      sys[ti] = Linearize(p, p.terms[ti], *h[ti]);
+      const MotionBlockTerm& t = p.terms[ti];
+      for (size_t k = 0; k < t.poses.size(); ++k)
+        for (int c = 0; c < 6; ++c) {
+          const int v = system.var(t.poses[k], c);
+          if (v < 0) continue;
+          gradient(v) += sys[ti].gp(6 * k + c);
+          diagonal(v) += sys[ti].Hpp[k * t.poses.size() + k](c, c);
+        }
+      for (size_t i = 0; i < index[ti].kvar.size(); ++i) {
+        gradient(index[ti].kvar[i]) += sys[ti].gk(i);
+        diagonal(index[ti].kvar[i]) += sys[ti].Hkk(i, i);
+      }
+    }
+  };
+  std::vector<Matrix7d> Hss_inv;
+  Eigen::VectorXd rhs;
   for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
     if (relinearize) {
-      gradient.setZero();
-      pose_diagonal.setZero();
-      for (size_t ti = 0; ti < p.terms.size(); ++ti) {
-        sys[ti] = Linearize(p, p.terms[ti], *h[ti]);
-        const MotionBlockTerm& t = p.terms[ti];
-        for (size_t k = 0; k < t.poses.size(); ++k)
-          for (int c = 0; c < 6; ++c) {
-            const int v = system.var(t.poses[k], c);
-            if (v < 0) continue;
-            gradient(v) += sys[ti].gp(6 * k + c);
-            pose_diagonal(v) += sys[ti].Hpp[k * t.poses.size() + k](c, c);
-          }
-      }
+      linearize_all();
       relinearize = false;
     }
     // Damped reduced system: each motion's similarity eliminated with its damped 7 x 7 block.
-    system.Zero();
-    Eigen::VectorXd rhs = -gradient;
-    std::vector<Matrix7d> Hss_inv(p.terms.size());
-    for (size_t ti = 0; ti < p.terms.size(); ++ti) {
-      const TermSystem& s = sys[ti];
-      const MotionBlockTerm& t = p.terms[ti];
-      const int n = static_cast<int>(t.poses.size());
-      Matrix7d Hss = s.Hss;
-      Hss.diagonal() += Clamped(s.Hss.diagonal()) / radius;
-      Hss_inv[ti] = Hss.ldlt().solve(Matrix7d::Identity());
-      const Eigen::Matrix<double, Eigen::Dynamic, 7> M = s.Hps * Hss_inv[ti];  // 6N x 7
-      const Eigen::VectorXd Mg = M * s.gs;
-      for (int k = 0; k < n; ++k) {
-        for (int l = 0; l < n; ++l) {
-          if (t.poses[k] < t.poses[l]) continue;  // lower triangle by pose index
-          Matrix6d b = s.Hpp[k * n + l] - M.middleRows<6>(6 * k) * s.Hps.middleRows<6>(6 * l).transpose();
-          system.block(block_of[ti][k * n + l]) += b;
-        }
-        for (int c = 0; c < 6; ++c) {
-          const int v = system.var(t.poses[k], c);
-          if (v >= 0) rhs(v) += Mg(6 * k + c);
-        }
-      }
-    }
+    AssembleReduced(p, sys, index, gradient, radius, &system, &rhs, &Hss_inv);
     Eigen::VectorXd damping(system.num_free());
     for (int i = 0; i < system.num_free(); ++i)
-      damping(i) = std::min(std::max(pose_diagonal(i), kMinDiagonal), kMaxDiagonal) / radius;
+      damping(i) = std::min(std::max(diagonal(i), kMinDiagonal), kMaxDiagonal) / radius;
     if (!system.Factorize(damping)) {
       summary.usable = false;
       summary.message = "the reduced pose system could not be factorised";
@@ -288,20 +389,30 @@ MotionBlockSummary SolveMotionBlocks(const MotionBlockProblem& p, const MotionBl
     for (int i = 0; i < m; ++i)
       for (int c = 0; c < 6; ++c)
         if (const int v = system.var(i, c); v >= 0) pose_step[i](c) = dp(v);
+    std::vector<Eigen::VectorXd> intrinsic_step(num_intrinsic_blocks);
+    for (int b = 0; b < num_intrinsic_blocks; ++b) {
+      intrinsic_step[b].resize(p.intrinsics[b]->size());
+      for (int i = 0; i < intrinsic_step[b].size(); ++i) intrinsic_step[b](i) = dp(system.intrinsic_var(b, i));
+    }
     std::vector<Vector7d> sim_step(p.terms.size());
     double predicted = 0.0, step_norm2 = 0.0, x_norm2 = 0.0;
     for (size_t ti = 0; ti < p.terms.size(); ++ti) {
       const TermSystem& s = sys[ti];
       const MotionBlockTerm& t = p.terms[ti];
+      const int n = static_cast<int>(t.poses.size());
+      const int K = static_cast<int>(index[ti].kvar.size());
+      Eigen::VectorXd dk(K);
+      for (int i = 0; i < K; ++i) dk(i) = dp(index[ti].kvar[i]);
       Vector7d b = s.gs;
-      for (size_t k = 0; k < t.poses.size(); ++k) b += s.Hps.middleRows<6>(6 * k).transpose() * pose_step[t.poses[k]];
+      for (int k = 0; k < n; ++k) b += s.Hps.middleRows<6>(6 * k).transpose() * pose_step[t.poses[k]];
+      if (K > 0) b += s.Hsk * dk;
       sim_step[ti] = -Hss_inv[ti] * b;
-      Eigen::VectorXd jd(6 * t.poses.size());
-      for (size_t k = 0; k < t.poses.size(); ++k)
-        jd.segment<6>(6 * k) = s.A[k] * pose_step[t.poses[k]] + s.B[k] * sim_step[ti];
+      Eigen::VectorXd jd(6 * n + K);
+      for (int k = 0; k < n; ++k) jd.segment<6>(6 * k) = s.A[k] * pose_step[t.poses[k]] + s.B[k] * sim_step[ti];
+      jd.tail(K) = dk;
       const double quad = t.weight * jd.dot(*h[ti] * jd);
-      double lin = s.gs.dot(sim_step[ti]);
-      for (size_t k = 0; k < t.poses.size(); ++k) lin += s.gp.segment<6>(6 * k).dot(pose_step[t.poses[k]]);
+      double lin = s.gs.dot(sim_step[ti]) + s.gk.dot(dk);
+      for (int k = 0; k < n; ++k) lin += s.gp.segment<6>(6 * k).dot(pose_step[t.poses[k]]);
       predicted += -lin - 0.5 * quad;
       step_norm2 += sim_step[ti].squaredNorm();
       x_norm2 += Eigen::Map<const Vector7d>(t.sim).squaredNorm();
@@ -310,9 +421,14 @@ MotionBlockSummary SolveMotionBlocks(const MotionBlockProblem& p, const MotionBl
       step_norm2 += pose_step[i].squaredNorm();
       x_norm2 += p.poses[i]->x.squaredNorm();
     }
+    for (int b = 0; b < num_intrinsic_blocks; ++b) {
+      step_norm2 += intrinsic_step[b].squaredNorm();
+      x_norm2 += p.intrinsics[b]->squaredNorm();
+    }
     // Trial step.
     std::vector<PoseVector> saved_poses(m);
     std::vector<Vector7d> saved_sims(p.terms.size());
+    std::vector<Eigen::VectorXd> saved_intrinsics(num_intrinsic_blocks);
     for (int i = 0; i < m; ++i) {
       saved_poses[i] = p.poses[i]->x;
       p.poses[i]->x += pose_step[i];
@@ -321,6 +437,10 @@ MotionBlockSummary SolveMotionBlocks(const MotionBlockProblem& p, const MotionBl
       Eigen::Map<Vector7d> x(p.terms[ti].sim);
       saved_sims[ti] = x;
       x += sim_step[ti];
+    }
+    for (int b = 0; b < num_intrinsic_blocks; ++b) {
+      saved_intrinsics[b] = *p.intrinsics[b];
+      *p.intrinsics[b] += intrinsic_step[b];
     }
     const double new_cost = MotionBlockCost(p);
     const double rho = predicted > 0 ? (cost - new_cost) / predicted : -1.0;
@@ -338,6 +458,7 @@ MotionBlockSummary SolveMotionBlocks(const MotionBlockProblem& p, const MotionBl
     } else {
       for (int i = 0; i < m; ++i) p.poses[i]->x = saved_poses[i];
       for (size_t ti = 0; ti < p.terms.size(); ++ti) Eigen::Map<Vector7d>(p.terms[ti].sim) = saved_sims[ti];
+      for (int b = 0; b < num_intrinsic_blocks; ++b) *p.intrinsics[b] = saved_intrinsics[b];
       radius /= nu;
       nu *= 2.0;
       if (callback) callback(iteration, cost);
@@ -346,6 +467,21 @@ MotionBlockSummary SolveMotionBlocks(const MotionBlockProblem& p, const MotionBl
     }
   }
   summary.final_cost = cost;
+  const int P = system.num_pose_vars(), K = system.num_free() - P;
+  if (K > 0) {
+    // (J^T J)^-1 on the intrinsics at the solution: the intrinsic block of the inverse of the
+    // undamped reduced system (the inverse of a Schur complement is the block of the inverse).
+    linearize_all();
+    AssembleReduced(p, sys, index, gradient, std::numeric_limits<double>::infinity(), &system, &rhs, &Hss_inv);
+    if (system.Factorize(Eigen::VectorXd::Zero(system.num_free()))) {
+      summary.intrinsics_inverse_hessian.resize(K, K);
+      for (int j = 0; j < K; ++j) {
+        Eigen::VectorXd e = Eigen::VectorXd::Zero(system.num_free());
+        e(P + j) = 1.0;
+        summary.intrinsics_inverse_hessian.col(j) = system.Solve(e).tail(K);
+      }
+    }
+  }
   return summary;
 }
 

@@ -29,10 +29,16 @@ struct MotionBlockTerm {
   std::vector<int> poses;  // index into MotionBlockProblem::poses per view
   double* sim = nullptr;   // the motion's 7 similarity parameters
   double weight = 1.0;     // w_s
+  // Self-calibration: index into MotionBlockProblem::intrinsics per camera of h, in the order
+  // of its intrinsic rows (MotionResidual::intrinsic_sizes).
+  std::vector<int> intrinsics;
 };
 
 struct MotionBlockProblem {
   std::vector<PoseBlock*> poses;
+  // The global intrinsic unknowns (each camera's free parameter values): not eliminated, they
+  // border the pose system (a few per camera).
+  std::vector<Eigen::VectorXd*> intrinsics;
   std::vector<MotionBlockTerm> terms;
   // Gauge: pose `fixed_pose` held, and centre coordinate `scale_coord` of `scale_pose`.
   int fixed_pose = -1;
@@ -53,6 +59,10 @@ struct MotionBlockSummary {
   int iterations = 0;
   double initial_cost = 0.0;
   double final_cost = 0.0;
+  // (J^T J)^-1 of the intrinsic unknowns at the end (undamped, similarities eliminated, the
+  // gauge held), concatenated in MotionBlockProblem::intrinsics order: times the pixel noise
+  // variance, their covariance. Empty without intrinsics or if not factorisable.
+  Eigen::MatrixXd intrinsics_inverse_hessian;
 };
 
 // Called with (iteration, cost) before the first iteration (0) and after each iteration.

@@ -9,7 +9,10 @@
 //     [ c_k - c0_k ;  Log(r0_k^T r_k) ],   c_k = lambda alpha (C_k - G) + beta,
 //                                          r_k = R0_k Exp(omega_k) alpha^T.
 // Parameter blocks: the N global poses [C, omega] (pose_parameterization.h) and the
-// similarity [beta, theta, lambda].
+// similarity [beta, theta, lambda]; with self-calibration (paper, "Self-calibrating bundle
+// adjustment") also the global intrinsic unknowns of each camera of h (LocalHessian::
+// intrinsic_camera_ids), whose deviation kappa_c - kappa0_c follows the 6N pose rows (the
+// local frame does not act on intrinsics, so they are compared directly).
 //
 // The Jacobian is composed, not differentiated through W: each view's 6-vector depends only
 // on its own pose and the similarity, so automatic differentiation runs per view over 13
@@ -57,31 +60,46 @@ struct ViewDeviation {
 class MotionResidual : public ceres::CostFunction {
  public:
   // R0: reference rotations of the N global pose blocks; x0: the motion's local poses.
+  // `intrinsics0` (K values) and `intrinsic_sizes` (per camera, summing to K): the intrinsic
+  // rows of h; W is then (6N + K) square.
   MotionResidual(const std::vector<Eigen::Matrix3d>& R0, const MotionSimilarity& sim, const std::vector<Pose>& x0,
-                 const Eigen::MatrixXd& W, const Eigen::VectorXd& newton_step = Eigen::VectorXd());
+                 const Eigen::MatrixXd& W, const Eigen::VectorXd& newton_step = Eigen::VectorXd(),
+                 const Eigen::VectorXd& intrinsics0 = Eigen::VectorXd(), const std::vector<int>& intrinsic_sizes = {});
 
   int num_views() const { return static_cast<int>(views_.size()); }
+  int num_intrinsics() const { return static_cast<int>(intrinsics0_.size()); }
+  const std::vector<int>& intrinsic_sizes() const { return intrinsic_sizes_; }
 
-  // r_s at the given blocks (poses[k]: 6 doubles of view k; sim: 7).
-  Eigen::VectorXd Evaluate(const std::vector<const double*>& poses, const double* sim) const;
+  // r_s at the given blocks (poses[k]: 6 doubles of view k; sim: 7; intrinsics[c]: the free
+  // values of camera c of h).
+  Eigen::VectorXd Evaluate(const std::vector<const double*>& poses, const double* sim,
+                           const std::vector<const double*>& intrinsics = {}) const;
 
-  // Ceres: blocks poses[0..N-1], sim; residuals 6N.
+  // Ceres: blocks poses[0..N-1], sim, intrinsics[0..C-1]; residuals 6N + K.
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
 
   // x_s - x0_s (before the weight matrix), for tests of the chart.
-  Eigen::VectorXd Deviation(const std::vector<const double*>& poses, const double* sim) const;
+  Eigen::VectorXd Deviation(const std::vector<const double*>& poses, const double* sim,
+                            const std::vector<const double*>& intrinsics = {}) const;
 
   // The deviation x_s - x0_s and its Jacobian, view by view: J[k] = d dx_k / d(pose_k, sim),
-  // 6 x 13 (pose block first). The weighted residual is W dx - offset.
-  void Linearize(const std::vector<const double*>& poses, const double* sim, Eigen::VectorXd* dx,
+  // 6 x 13 (pose block first); the intrinsic rows of dx have the identity as Jacobian. The
+  // weighted residual is W dx - offset.
+  void Linearize(const std::vector<const double*>& poses, const double* sim,
+                 const std::vector<const double*>& intrinsics, Eigen::VectorXd* dx,
                  std::vector<Eigen::Matrix<double, 6, 13>>* J) const;
   const Eigen::MatrixXd& W() const { return W_; }
   const Eigen::VectorXd& offset() const { return offset_; }
 
  private:
+  // kappa_c - kappa0_c for every camera, concatenated (K values).
+  void IntrinsicDeviation(const std::vector<const double*>& intrinsics, double* out) const;
+
   std::vector<ViewDeviation> views_;
   Eigen::MatrixXd W_;
   Eigen::VectorXd offset_;  // W_s n_s
+  Eigen::VectorXd intrinsics0_;
+  std::vector<int> intrinsic_sizes_;
 };
 
 }  // namespace pgba

@@ -17,7 +17,7 @@ int Find(std::vector<int>& parent, int i) {
 }
 
 bool Usable(const LocalHessian& h) {
-  return h.status == LocalHessianStatus::kOk && h.D.size() == 6 * h.num_views() && h.V.rows() == h.D.size() &&
+  return h.status == LocalHessianStatus::kOk && h.D.size() == 6 * h.num_views() + h.num_intrinsics() && h.V.rows() == h.D.size() &&
          h.V.allFinite() && h.D.allFinite() && h.D.maxCoeff() > 0;
 }
 

@@ -1,15 +1,21 @@
 #include "modules/global_ba/motion_weighting.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace pgba {
 
 Eigen::MatrixXd MotionWeightMatrix(const LocalHessian& hessian, const GlobalBAOptions& options) {
   if (options.weighting == TripletWeighting::kHessian) return hessian.D.asDiagonal() * hessian.V;
-  Eigen::VectorXd w(6 * hessian.num_views());
+  const int n = 6 * hessian.num_views();
+  Eigen::VectorXd w(n + hessian.num_intrinsics());
   const double wp = 1.0 / (options.scalar_position_sigma * hessian.depth_scale);
   const double wr = 1.0 / options.scalar_rotation_sigma;
   for (int k = 0; k < hessian.num_views(); ++k) w.segment<6>(6 * k) << wp, wp, wp, wr, wr, wr;
+  // Intrinsics (self-calibration): relative to their value as the rotations (a focal 1e-3
+  // off moves the image like a 1e-3 rad rotation), distortion coefficients absolutely.
+  for (int i = 0; i < hessian.num_intrinsics(); ++i)
+    w(n + i) = wr / std::max(1.0, std::abs(hessian.intrinsics0(i)));
   return w.asDiagonal();
 }
 

@@ -53,7 +53,7 @@ class PosePriorCost : public ceres::CostFunction {
 
 LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const LocalMotion& motion,
                                            const LocalHessianOptions& options, LocalBundleProblem* problem,
-                                           const ObservationShares* shares) {
+                                           const ObservationShares* shares, const FreeIntrinsics* free) {
   *problem = LocalBundleProblem();
   problem->huber_px = options.huber_px;
   problem->max_reprojection_px = options.max_reprojection_px;
@@ -62,6 +62,8 @@ LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const L
   std::vector<const Image*> images(n);
   problem->poses.resize(n);
   problem->cameras.resize(n);
+  problem->view_intrinsics.assign(n, -1);
+  LocalIntrinsics& in = problem->intrinsics;
   for (int k = 0; k < n; ++k) {
     const auto it = tracks.images.find(motion.image_ids[k]);
     if (it == tracks.images.end()) return LocalHessianStatus::kInvalidInput;
@@ -69,9 +71,24 @@ LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const L
     const auto cam = tracks.cameras.find(it->second.camera_id);
     if (cam == tracks.cameras.end()) return LocalHessianStatus::kInvalidInput;
     problem->cameras[k] = &cam->second;
+    if (free && free->count(cam->first)) in.camera_ids.push_back(cam->first);
     const Pose& pose = motion.local_poses[k];
     if (!pose.q().coeffs().allFinite() || !pose.t().allFinite()) return LocalHessianStatus::kInvalidInput;
     problem->poses[k] = PoseBlock::FromPose(pose);
+  }
+  std::sort(in.camera_ids.begin(), in.camera_ids.end());
+  in.camera_ids.erase(std::unique(in.camera_ids.begin(), in.camera_ids.end()), in.camera_ids.end());
+  for (const uint32_t id : in.camera_ids) {
+    in.cameras.push_back(tracks.cameras.at(id));
+    in.free.push_back(free->at(id));
+    in.offset.push_back(in.num_unknowns);
+    in.num_unknowns += static_cast<int>(in.free.back().size());
+  }
+  for (int k = 0; k < n; ++k) {  // views of free cameras project through the copies
+    const uint32_t id = images[k]->camera_id;
+    const auto c = std::lower_bound(in.camera_ids.begin(), in.camera_ids.end(), id);
+    if (c == in.camera_ids.end() || *c != id) continue;
+    problem->view_intrinsics[k] = static_cast<int>(c - in.camera_ids.begin());
   }
   // View of each image in the motion; an image twice is invalid.
   std::map<uint32_t, int> view_of_image;
@@ -140,13 +157,26 @@ bool SolveLocalBundle(int max_iterations, LocalBundleProblem* p, bool fix_gauge)
     ceres::Problem problem(po);
     for (auto& pose : p->poses) problem.AddParameterBlock(pose.x.data(), 6);
     for (auto& X : p->points) problem.AddParameterBlock(X.data(), 3);
+    LocalIntrinsics& in = p->intrinsics;
+    for (size_t c = 0; c < in.cameras.size(); ++c) {
+      std::vector<double>& params = in.cameras[c].params;
+      problem.AddParameterBlock(params.data(), static_cast<int>(params.size()),
+                                HeldIntrinsicsManifold(static_cast<int>(params.size()), in.free[c]));
+    }
     for (const LocalObservation& o : p->observations) {
       std::unique_ptr<ceres::LossFunction>& l = losses[o.weight];
       if (!l)
         l = std::make_unique<ceres::ScaledLoss>(new ceres::HuberLoss(p->huber_px), p->observation_weight * o.weight,
                                                 ceres::TAKE_OWNERSHIP);
-      problem.AddResidualBlock(ReprojectionError::Create(p->cameras[o.view], p->poses[o.view].R0, o.pixel), l.get(),
-                               p->poses[o.view].x.data(), p->points[o.point].data());
+      const int c = p->view_intrinsics[o.view];
+      if (c >= 0) {
+        problem.AddResidualBlock(
+            CreateReprojectionErrorWithIntrinsics(in.cameras[c].model, p->poses[o.view].R0, o.pixel), l.get(),
+            p->poses[o.view].x.data(), p->points[o.point].data(), in.cameras[c].params.data());
+      } else {
+        problem.AddResidualBlock(ReprojectionError::Create(p->cameras[o.view], p->poses[o.view].R0, o.pixel),
+                                 l.get(), p->poses[o.view].x.data(), p->points[o.point].data());
+      }
     }
     if (p->prior.size() > 0 && !p->prior.isZero(0.0)) {
       const Eigen::MatrixXd A = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(p->prior).operatorSqrt();
@@ -160,6 +190,7 @@ bool SolveLocalBundle(int max_iterations, LocalBundleProblem* p, bool fix_gauge)
     auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
     for (auto& X : p->points) ordering->AddElementToGroup(X.data(), 0);
     for (auto& pose : p->poses) ordering->AddElementToGroup(pose.x.data(), 1);
+    for (Camera& camera : in.cameras) ordering->AddElementToGroup(camera.params.data(), 1);
     so.linear_solver_ordering = ordering;
     so.max_num_iterations = max_iterations;
     so.num_threads = 1;
@@ -194,7 +225,7 @@ double RobustCost(const LocalBundleProblem& p) {
   };
   double cost = 0.0;
   for (const LocalObservation& o : p.observations) {
-    const ReprojectionError e(p.cameras[o.view], p.poses[o.view].R0, o.pixel);
+    const ReprojectionError e(&p.CameraOf(o.view), p.poses[o.view].R0, o.pixel);
     double r[2];
     e(p.poses[o.view].x.data(), p.points[o.point].data(), r);
     cost += huber(std::min(r[0] * r[0] + r[1] * r[1], p.max_reprojection_px * p.max_reprojection_px));
@@ -206,7 +237,7 @@ double RobustCost(const LocalBundleProblem& p) {
 double RmsReprojectionPx(const LocalBundleProblem& p) {
   double sum = 0.0;
   for (const LocalObservation& o : p.observations) {
-    const ReprojectionError e(p.cameras[o.view], p.poses[o.view].R0, o.pixel);
+    const ReprojectionError e(&p.CameraOf(o.view), p.poses[o.view].R0, o.pixel);
     double r[2];
     e(p.poses[o.view].x.data(), p.points[o.point].data(), r);
     sum += r[0] * r[0] + r[1] * r[1];

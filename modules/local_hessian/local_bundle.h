@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "modules/local_hessian/local_hessian.h"
+#include "pgba/optim/intrinsics.h"
 #include "pgba/optim/pose_parameterization.h"
 
 namespace pgba {
@@ -19,9 +20,25 @@ struct LocalObservation {
   double weight = 1.0;
 };
 
+// Self-calibration (paper, "Self-calibrating bundle adjustment"): the motion's cameras whose
+// intrinsics are unknowns. Their parameters are copies (the local BA estimates them), and h
+// grows from 6N to 6N + K rows, K the number of free parameters over these cameras, in the
+// order of `camera_ids` and, within a camera, of `free` (FreeIntrinsicIndices).
+struct LocalIntrinsics {
+  std::vector<uint32_t> camera_ids;      // ascending
+  std::vector<Camera> cameras;           // their current values
+  std::vector<std::vector<int>> free;    // indices into Camera::params
+  std::vector<int> offset;               // row of each camera's first unknown within the K
+  int num_unknowns = 0;                  // K
+};
+
 struct LocalBundleProblem {
   std::vector<PoseBlock> poses;
+  // Camera of each view as in `tracks` (CameraOf: with the current free intrinsics).
   std::vector<const Camera*> cameras;
+  // Per view, its camera's index in intrinsics.camera_ids, or -1 for a held camera.
+  std::vector<int> view_intrinsics;
+  LocalIntrinsics intrinsics;
   std::vector<Eigen::Vector3d> points;
   // Grouped by point (all observations of point i are contiguous, in view order).
   std::vector<LocalObservation> observations;
@@ -39,6 +56,12 @@ struct LocalBundleProblem {
   double max_reprojection_px = 4.0;
 
   int num_views() const { return static_cast<int>(poses.size()); }
+  // Unknowns of h: 6N pose coordinates, then the K intrinsics.
+  int num_unknowns() const { return 6 * num_views() + intrinsics.num_unknowns; }
+  const Camera& CameraOf(int view) const {
+    const int c = view_intrinsics[view];
+    return c >= 0 ? intrinsics.cameras[c] : *cameras[view];
+  }
 };
 
 // The motion's robust reprojection cost at its current poses and points: Huber (huber_px) of
@@ -52,13 +75,14 @@ double AttenuationWeight(int num_points, double q);
 
 // Collects the motion's tracks from the tracks model, triangulates each from the local poses
 // (TriangulateTrack), drops gross outlier observations and points with < 2 views. Returns
-// kOk, kInvalidInput or kTooFewPoints.
+// kOk, kInvalidInput or kTooFewPoints. `free` (nullptr: none) selects the intrinsic unknowns.
 LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const LocalMotion& motion,
                                            const LocalHessianOptions& options, LocalBundleProblem* problem,
-                                           const ObservationShares* shares = nullptr);
+                                           const ObservationShares* shares = nullptr,
+                                           const FreeIntrinsics* free = nullptr);
 
 // Runs `max_iterations` Levenberg-Marquardt iterations (Ceres, DENSE_SCHUR, single thread:
-// motions are parallelised outside) on poses and points, then re-linearises the poses
+// motions are parallelised outside) on poses, points and the free intrinsics, then re-linearises the poses
 // (omega folded into R0) so that h is taken in the chart centred at the solution. False if
 // Ceres could not evaluate the problem.
 // With `fix_gauge` the first pose and the largest baseline coordinate of the second are held

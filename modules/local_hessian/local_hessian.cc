@@ -40,14 +40,15 @@ nlohmann::json LocalHessianStatusCounts(const LocalHessianResult& result) {
 }
 
 LocalHessian ComputeLocalHessian(const Reconstruction& tracks, const LocalMotion& motion, int motion_index,
-                                 const LocalHessianOptions& options, const ObservationShares* shares) {
+                                 const LocalHessianOptions& options, const ObservationShares* shares,
+                                 const FreeIntrinsics* free) {
   LocalHessian out;
   out.motion_index = motion_index;
   out.image_ids = motion.image_ids;
   out.local_poses = motion.local_poses;
 
   LocalBundleProblem problem;
-  out.status = BuildLocalBundleProblem(tracks, motion, options, &problem, shares);
+  out.status = BuildLocalBundleProblem(tracks, motion, options, &problem, shares, free);
   if (out.status != LocalHessianStatus::kOk) return out;
   out.num_points = static_cast<int>(problem.points.size());
   out.num_observations = static_cast<int>(problem.observations.size());
@@ -58,13 +59,20 @@ LocalHessian ComputeLocalHessian(const Reconstruction& tracks, const LocalMotion
   if (options.prior_placement == PriorPlacement::kLocalBAAndHessian) {
     // The extrinsics observed at their input values, with mu from h at the input.
     const ReducedCameraSystem h_in = ReducedCameraMatrix(problem);
-    problem.prior = ComputeGaugePrior(h_in.h, problem.poses, MedianDepth(problem), options).P;
+    const int n = 6 * problem.num_views();  // the pose prior of the local BA: pose rows only
+    problem.prior = ComputeGaugePrior(h_in.h, problem.poses, MedianDepth(problem), options).P.topLeftCorner(n, n);
   }
   if (!SolveLocalBundle(options.max_iterations, &problem)) {
     out.status = LocalHessianStatus::kSolverFailure;
     return out;
   }
   for (int k = 0; k < problem.num_views(); ++k) out.local_poses[k] = problem.poses[k].ToPose();
+  const LocalIntrinsics& in = problem.intrinsics;
+  out.intrinsic_camera_ids = in.camera_ids;
+  out.intrinsic_free = in.free;
+  out.intrinsics0.resize(in.num_unknowns);
+  for (size_t c = 0; c < in.cameras.size(); ++c)
+    out.intrinsics0.segment(in.offset[c], in.free[c].size()) = GatherIntrinsics(in.cameras[c], in.free[c]);
   out.rms_px = RmsReprojectionPx(problem);
   out.robust_cost = RobustCost(problem);
   out.depth_scale = MedianDepth(problem);
@@ -77,7 +85,8 @@ LocalHessian ComputeLocalHessian(const Reconstruction& tracks, const LocalMotion
   }
   GaugePrior prior = ComputeGaugePrior(reduced.h, problem.poses, out.depth_scale, options);
   out.eigenvalue_ratio = prior.eigenvalue_ratio;
-  if (options.prior_placement == PriorPlacement::kLocalBAAndHessian) prior.P = problem.prior;  // the one it used
+  if (options.prior_placement == PriorPlacement::kLocalBAAndHessian)  // the one it used
+    prior.P.topLeftCorner(problem.prior.rows(), problem.prior.cols()) = problem.prior;
   out.prior = prior.P;
   out.prior_mu = prior.mu;
   // min_eigenvalue_ratio <= 0 disables the rank test (whole-track motions: a direction of h
@@ -130,7 +139,8 @@ LocalHessianResult ComputeLocalHessians(const Reconstruction& tracks, const std:
 }
 
 LocalHessianResult ComputeLocalHessians(const Reconstruction& tracks, const std::vector<LocalMotion>& motions,
-                                        const LocalHessianOptions& options, const ObservationShares* given) {
+                                        const LocalHessianOptions& options, const ObservationShares* given,
+                                        const FreeIntrinsics* free) {
   LocalHessianResult result;
   result.hessians.resize(motions.size());
   std::unique_ptr<tbb::global_control> limit;
@@ -141,7 +151,7 @@ LocalHessianResult ComputeLocalHessians(const Reconstruction& tracks, const std:
   const ObservationShares* sp = !options.shared_observation_weighting ? nullptr : given ? given : &counted;
   // Each motion writes only its own slot: the result does not depend on scheduling.
   tbb::parallel_for(size_t(0), motions.size(), [&](size_t i) {
-    result.hessians[i] = ComputeLocalHessian(tracks, motions[i], static_cast<int>(i), options, sp);
+    result.hessians[i] = ComputeLocalHessian(tracks, motions[i], static_cast<int>(i), options, sp, free);
   });
   for (const LocalHessian& h : result.hessians) ++result.status_counts[static_cast<int>(h.status)];
   std::string rejected;

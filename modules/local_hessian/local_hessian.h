@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "pgba/geometry/pose.h"
+#include "pgba/optim/intrinsics.h"
 #include "pgba/scene/reconstruction.h"
 #include "pgba/scene/view_graph.h"
 
@@ -140,6 +141,14 @@ struct LocalHessian {
   LocalHessianStatus status = LocalHessianStatus::kInvalidInput;
   // x0_s: the N local poses after the local BA, the linearisation point of h.
   std::vector<Pose> local_poses;
+  // Self-calibration (paper, "Self-calibrating bundle adjustment"): the cameras whose
+  // intrinsics are unknowns of h (ascending ids), each one's free parameter indices, and
+  // their values at the linearisation point (concatenated in that order, K in all). h, V, g
+  // and newton_step then have 6N + K rows: the N poses, then these K intrinsics, which are
+  // not affected by the local frame (the global BA compares them with its own directly).
+  std::vector<uint32_t> intrinsic_camera_ids;
+  std::vector<std::vector<int>> intrinsic_free;
+  Eigen::VectorXd intrinsics0;
   // Camera reduced matrix including the gauge prior: h = h_points + prior (6N x 6N).
   Eigen::MatrixXd h;
   // h = V^T diag(D)^2 V (HessianFactor): with kEigen rows of V are orthonormal eigenvectors,
@@ -173,6 +182,7 @@ struct LocalHessian {
   double robust_cost = 0.0;
 
   int num_views() const { return static_cast<int>(image_ids.size()); }
+  int num_intrinsics() const { return static_cast<int>(intrinsics0.size()); }
 };
 
 struct LocalHessianResult {
@@ -186,8 +196,10 @@ nlohmann::json LocalHessianStatusCounts(const LocalHessianResult& result);
 
 // One motion (paper eqs. 1-3 and the decomposition of eq. 5). `shares` (for
 // shared_observation_weighting; nullptr: weight 1) counts the motions using each observation.
+// `free` (nullptr: none): the intrinsics that are unknowns (optim/intrinsics.h).
 LocalHessian ComputeLocalHessian(const Reconstruction& tracks, const LocalMotion& motion, int motion_index,
-                                 const LocalHessianOptions& options, const ObservationShares* shares = nullptr);
+                                 const LocalHessianOptions& options, const ObservationShares* shares = nullptr,
+                                 const FreeIntrinsics* free = nullptr);
 
 // The ObservationShares of a motion set: for every motion, track and view that observes it.
 ObservationShares CountObservationShares(const Reconstruction& tracks, const std::vector<LocalMotion>& motions);
@@ -196,7 +208,8 @@ ObservationShares CountObservationShares(const Reconstruction& tracks, const std
 // counts of rejected motions per reason. `shares`: shared_observation_weighting counted over
 // another motion set (e.g. all of them when re-computing a subset); nullptr: counted here.
 LocalHessianResult ComputeLocalHessians(const Reconstruction& tracks, const std::vector<LocalMotion>& motions,
-                                        const LocalHessianOptions& options, const ObservationShares* shares = nullptr);
+                                        const LocalHessianOptions& options, const ObservationShares* shares = nullptr,
+                                        const FreeIntrinsics* free = nullptr);
 // The paper's case: every triplet as a motion of three views.
 LocalHessianResult ComputeLocalHessians(const Reconstruction& tracks, const std::vector<Triplet>& triplets,
                                         const LocalHessianOptions& options);

@@ -24,6 +24,37 @@ LocalHessianStatus StatusFromName(const WorkspaceJsonReader& reader, const json&
   reader.Fail(where, "unknown status " + j.dump());
 }
 
+// LocalHessian::intrinsic_* from [{"camera_id", "free": [indices], "values": [...]}, ...].
+void ReadIntrinsicUnknowns(const WorkspaceJsonReader& reader, const Reconstruction& tracks, const json& j,
+                           const std::string& where, LocalHessian* lh) {
+  if (!j.is_array()) reader.Fail(where, "must be an array");
+  std::vector<double> values;
+  for (size_t c = 0; c < j.size(); ++c) {
+    const std::string w = where + "[" + std::to_string(c) + "]";
+    const int64_t id = reader.Integer(reader.Field(j[c], "camera_id", w), w + ".camera_id");
+    const auto cam = tracks.cameras.find(static_cast<uint32_t>(id));
+    if (id < 0 || cam == tracks.cameras.end()) reader.Fail(w, "camera_id " + std::to_string(id) + " not in the tracks");
+    if (!lh->intrinsic_camera_ids.empty() && !(static_cast<uint32_t>(id) > lh->intrinsic_camera_ids.back()))
+      reader.Fail(w, "camera ids must ascend");
+    const json& free = reader.Field(j[c], "free", w);
+    const int np = CameraModelNumParams(cam->second.model);
+    if (!free.is_array() || free.empty() || static_cast<int>(free.size()) > np)
+      reader.Fail(w, "\"free\" must hold 1 to " + std::to_string(np) + " parameter indices");
+    std::vector<int> indices;
+    for (const json& f : free) {
+      const int64_t i = reader.Integer(f, w + ".free");
+      if (i < 0 || i >= np || (!indices.empty() && i <= indices.back()))
+        reader.Fail(w, "\"free\" must ascend within 0.." + std::to_string(np - 1));
+      indices.push_back(static_cast<int>(i));
+    }
+    const Eigen::VectorXd v = reader.Numbers(reader.Field(j[c], "values", w), indices.size(), w + ".values");
+    values.insert(values.end(), v.data(), v.data() + v.size());
+    lh->intrinsic_camera_ids.push_back(static_cast<uint32_t>(id));
+    lh->intrinsic_free.push_back(std::move(indices));
+  }
+  lh->intrinsics0 = Eigen::Map<const Eigen::VectorXd>(values.data(), values.size());
+}
+
 }  // namespace
 
 fs::path WorkspaceLocalHessiansPath(const fs::path& workspace) { return workspace / "local_hessians.json"; }
@@ -42,6 +73,15 @@ void WriteLocalHessians(const fs::path& path, const Reconstruction& tracks, cons
       for (const Pose& p : lh.local_poses) {
         const Eigen::Quaterniond& q = p.q();
         e["local_poses"].push_back({{"q", {q.w(), q.x(), q.y(), q.z()}}, {"t", internal_workspace::Array(p.t())}});
+      }
+      // Self-calibration: the intrinsic unknowns of h after the poses (absent: none).
+      for (size_t c = 0, offset = 0; c < lh.intrinsic_camera_ids.size(); ++c) {
+        const std::vector<int>& free = lh.intrinsic_free[c];
+        e["intrinsics"].push_back({{"camera_id", lh.intrinsic_camera_ids[c]},
+                                   {"free", free},
+                                   {"values", std::vector<double>(lh.intrinsics0.data() + offset,
+                                                                  lh.intrinsics0.data() + offset + free.size())}});
+        offset += free.size();
       }
       json h = json::array();
       for (int r = 0; r < lh.h.rows(); ++r)
@@ -92,7 +132,8 @@ LocalHessianResult ReadLocalHessians(const fs::path& path, const Reconstruction&
     }
     lh.status = StatusFromName(reader, reader.Field(e, "status", where), where + ".status");
     if (lh.status == LocalHessianStatus::kOk) {
-      const int dim = 6 * static_cast<int>(n);
+      if (e.contains("intrinsics")) ReadIntrinsicUnknowns(reader, tracks, e["intrinsics"], where + ".intrinsics", &lh);
+      const int dim = 6 * static_cast<int>(n) + lh.num_intrinsics();
       const json& poses = reader.Field(e, "local_poses", where);
       if (!poses.is_array() || poses.size() != n)
         reader.Fail(where, "\"local_poses\" must hold " + std::to_string(n) + " entries");

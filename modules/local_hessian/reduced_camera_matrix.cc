@@ -7,27 +7,51 @@
 #include <cmath>
 
 #include "pgba/geometry/rotation.h"
+#include "pgba/optim/intrinsics.h"
 
 namespace pgba {
 
 namespace {
 
 using Jet9 = ceres::Jet<double, 9>;
+constexpr int kMaxParams = 8;  // OPENCV
+using Jet17 = ceres::Jet<double, 9 + kMaxParams>;
 
-// Residual (pixels) of one observation and its Jacobians w.r.t. the pose 6-vector and the
-// point, through the shared ReprojectionError functor.
+// Residual (pixels) of one observation and its Jacobians w.r.t. the pose 6-vector, the point
+// and (for a view of a free camera) the camera's free intrinsics, through the shared
+// reprojection functors.
 void ObservationJacobian(const LocalBundleProblem& p, const LocalObservation& o, Eigen::Vector2d* r,
-                         Eigen::Matrix<double, 2, 6>* Jc, Eigen::Matrix<double, 2, 3>* Jp) {
+                         Eigen::Matrix<double, 2, 6>* Jc, Eigen::Matrix<double, 2, 3>* Jp, Eigen::MatrixXd* Jk) {
   const PoseBlock& b = p.poses[o.view];
-  Jet9 pose[6], X[3], res[2];
-  for (int i = 0; i < 6; ++i) pose[i] = Jet9(b.x(i), i);
-  for (int i = 0; i < 3; ++i) X[i] = Jet9(p.points[o.point](i), 6 + i);
-  const ReprojectionError f(p.cameras[o.view], b.R0, o.pixel);
-  f(pose, X, res);
+  const int c = p.view_intrinsics[o.view];
+  if (c < 0) {
+    Jet9 pose[6], X[3], res[2];
+    for (int i = 0; i < 6; ++i) pose[i] = Jet9(b.x(i), i);
+    for (int i = 0; i < 3; ++i) X[i] = Jet9(p.points[o.point](i), 6 + i);
+    const ReprojectionError f(p.cameras[o.view], b.R0, o.pixel);
+    f(pose, X, res);
+    for (int k = 0; k < 2; ++k) {
+      (*r)(k) = res[k].a;
+      Jc->row(k) = res[k].v.head<6>().transpose();
+      Jp->row(k) = res[k].v.segment<3>(6).transpose();
+    }
+    return;
+  }
+  const Camera& camera = p.intrinsics.cameras[c];
+  const std::vector<int>& free = p.intrinsics.free[c];
+  Jet17 pose[6], X[3], params[kMaxParams], res[2];
+  for (int i = 0; i < 6; ++i) pose[i] = Jet17(b.x(i), i);
+  for (int i = 0; i < 3; ++i) X[i] = Jet17(p.points[o.point](i), 6 + i);
+  for (size_t i = 0; i < camera.params.size(); ++i) params[i] = Jet17(camera.params[i]);
+  for (size_t j = 0; j < free.size(); ++j) params[free[j]].v(9 + j) = 1.0;
+  const ReprojectionErrorWithIntrinsics f(camera.model, b.R0, o.pixel, 1.0);
+  f(pose, X, params, res);
+  Jk->resize(2, static_cast<int>(free.size()));
   for (int k = 0; k < 2; ++k) {
     (*r)(k) = res[k].a;
     Jc->row(k) = res[k].v.head<6>().transpose();
-    Jp->row(k) = res[k].v.tail<3>().transpose();
+    Jp->row(k) = res[k].v.segment<3>(6).transpose();
+    Jk->row(k) = res[k].v.segment(9, free.size()).transpose();
   }
 }
 
@@ -65,11 +89,18 @@ double LargestEigenvalue(const Eigen::MatrixXd& A) {
 
 ReducedCameraSystem ReducedCameraMatrix(const LocalBundleProblem& p) {
   ReducedCameraSystem out;
-  const int n = 6 * p.num_views();
+  const int n = p.num_unknowns();
+  const int n_poses = 6 * p.num_views();
   out.h = Eigen::MatrixXd::Zero(n, n);
   out.g = Eigen::VectorXd::Zero(n);
   Eigen::Matrix<double, Eigen::Dynamic, 3> Hcp(n, 3);
   const double huber2 = p.huber_px * p.huber_px;
+  // The rows a point touches: its views' pose blocks, then its free cameras' intrinsics
+  // (a camera shared by several of its views once).
+  struct Segment {
+    int row, size;
+  };
+  std::vector<Segment> segments;
   size_t begin = 0;
   while (begin < p.observations.size()) {
     size_t end = begin;
@@ -77,12 +108,14 @@ ReducedCameraSystem ReducedCameraMatrix(const LocalBundleProblem& p) {
     Eigen::Matrix3d Hpp = Eigen::Matrix3d::Zero();
     Eigen::Vector3d gp = Eigen::Vector3d::Zero();
     Hcp.setZero();
+    segments.clear();
     for (size_t i = begin; i < end; ++i) {
       const LocalObservation& o = p.observations[i];
       Eigen::Vector2d r;
       Eigen::Matrix<double, 2, 6> Jc;
       Eigen::Matrix<double, 2, 3> Jp;
-      ObservationJacobian(p, o, &r, &Jc, &Jp);
+      Eigen::MatrixXd Jk;
+      ObservationJacobian(p, o, &r, &Jc, &Jp, &Jk);
       // IRLS weight of Huber: rho'(s) = 1 inside, delta / |r| outside (rho'' <= 0 there, so
       // Ceres' corrector reduces to this too), times the attenuation.
       const double s = r.squaredNorm();
@@ -93,15 +126,32 @@ ReducedCameraSystem ReducedCameraMatrix(const LocalBundleProblem& p) {
       Hcp.middleRows<6>(c) += w * Jc.transpose() * Jp;
       Hpp += w * Jp.transpose() * Jp;
       gp += w * Jp.transpose() * r;
+      segments.push_back({c, 6});
+      if (const int ci = p.view_intrinsics[o.view]; ci >= 0) {
+        const int k = n_poses + p.intrinsics.offset[ci], nk = static_cast<int>(Jk.cols());
+        out.h.block(k, k, nk, nk) += w * Jk.transpose() * Jk;
+        out.h.block(c, k, 6, nk) += w * Jc.transpose() * Jk;
+        out.h.block(k, c, nk, 6) += w * Jk.transpose() * Jc;
+        out.g.segment(k, nk) += w * Jk.transpose() * r;
+        Hcp.middleRows(k, nk) += w * Jk.transpose() * Jp;
+        bool seen = false;
+        for (const Segment& sg : segments) seen = seen || sg.row == k;
+        if (!seen) segments.push_back({k, nk});
+      }
     }
     Eigen::Matrix3d Hpp_inv;
     if (PseudoInverse3(Hpp, &Hpp_inv)) {
-      // Only the views of this point: H_cp is zero elsewhere (a 6N x 6N product per point
+      // Only the rows of this point: H_cp is zero elsewhere (a 6N x 6N product per point
       // would make long motions quadratic in N for nothing).
-      for (size_t a = begin; a < end; ++a)
-        for (size_t b = begin; b < end; ++b) {
-          const int ca = 6 * p.observations[a].view, cb = 6 * p.observations[b].view;
-          out.h.block<6, 6>(ca, cb) -= Hcp.middleRows<6>(ca) * Hpp_inv * Hcp.middleRows<6>(cb).transpose();
+      for (const Segment& a : segments)
+        for (const Segment& b : segments) {
+          if (a.size == 6 && b.size == 6) {  // pose-pose: fixed-size products (the hot loop)
+            out.h.block<6, 6>(a.row, b.row) -=
+                Hcp.middleRows<6>(a.row) * Hpp_inv * Hcp.middleRows<6>(b.row).transpose();
+          } else {
+            out.h.block(a.row, b.row, a.size, b.size) -=
+                Hcp.middleRows(a.row, a.size) * Hpp_inv * Hcp.middleRows(b.row, b.size).transpose();
+          }
         }
       out.g -= Hcp * (Hpp_inv * gp);
       ++out.num_points_used;
@@ -134,12 +184,16 @@ GaugePrior ComputeGaugePrior(const Eigen::MatrixXd& h, const std::vector<PoseBlo
                              const LocalHessianOptions& options) {
   GaugePrior prior;
   const int n = 6 * static_cast<int>(poses.size());
-  prior.P = Eigen::MatrixXd::Zero(n, n);
-  if (h.rows() != n || h.cols() != n || n <= kGaugeDimension) return prior;
+  // With intrinsic unknowns h has K more rows; the gauge (a similarity of the local frame)
+  // leaves the intrinsics unchanged, so the prior has zeros there, and mu and the rank test
+  // are taken on the pose block.
+  const int total = static_cast<int>(h.rows());
+  prior.P = Eigen::MatrixXd::Zero(std::max(total, n), std::max(total, n));
+  if (total < n || h.cols() != total || n <= kGaugeDimension) return prior;
   const double L = options.prior_scale_aware && depth_scale > 0 ? depth_scale : 1.0;
   Eigen::VectorXd s(n);  // [c, omega] = diag(s) [c / L, omega]
   for (int k = 0; k < n / 6; ++k) s.segment<6>(6 * k) << L, L, L, 1.0, 1.0, 1.0;
-  const Eigen::MatrixXd hs = s.asDiagonal() * h * s.asDiagonal();
+  const Eigen::MatrixXd hs = s.asDiagonal() * h.topLeftCorner(n, n) * s.asDiagonal();
   double lmax = 0.0;
   if (options.min_eigenvalue_ratio > 0) {
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(hs, Eigen::EigenvaluesOnly);
@@ -162,7 +216,7 @@ GaugePrior ComputeGaugePrior(const Eigen::MatrixXd& h, const std::vector<PoseBlo
     Ps = prior.mu * Q * Q.transpose();
   }
   const Eigen::VectorXd inv_s = s.cwiseInverse();
-  prior.P = inv_s.asDiagonal() * Ps * inv_s.asDiagonal();
+  prior.P.topLeftCorner(n, n) = inv_s.asDiagonal() * Ps * inv_s.asDiagonal();
   return prior;
 }
 

@@ -10,7 +10,7 @@
 namespace pgba {
 
 struct ReducedCameraSystem {
-  Eigen::MatrixXd h;        // H_cc - H_cp H_pp^-1 H_pc (6N x 6N)
+  Eigen::MatrixXd h;        // H_cc - H_cp H_pp^-1 H_pc (6N + K square: poses, then intrinsics)
   Eigen::VectorXd g;        // g_c - H_cp H_pp^-1 g_p
   int num_points_used = 0;  // points whose H_pp was invertible
 };

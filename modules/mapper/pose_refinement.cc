@@ -1,6 +1,7 @@
 #include "mapper/pose_refinement.h"
 
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "mapper/triplet_split_tracks.h"
@@ -51,7 +52,8 @@ void AddRefinementSections(ConfigSchema* schema) {
   schema->Add("local_motions", defaults.local_motions)
       .Add("local_hessian", defaults.local_hessian)
       .Add("global_ba", defaults.global_ba)
-      .Add("point_based", defaults.point_based);
+      .Add("point_based", defaults.point_based)
+      .Add("intrinsics", defaults.intrinsics);
 }
 
 void ReadRefinementOptions(const Config& config, RefinementOptions* options) {
@@ -59,6 +61,12 @@ void ReadRefinementOptions(const Config& config, RefinementOptions* options) {
   ReadSection(config, "local_hessian", &options->local_hessian);
   ReadSection(config, "global_ba", &options->global_ba);
   ReadSection(config, "point_based", &options->point_based);
+  ReadSection(config, "intrinsics", &options->intrinsics);
+}
+
+FreeIntrinsics SelectRefinedIntrinsics(const Reconstruction& tracks, const RefinementOptions& options) {
+  if (!RefinesIntrinsics(options.intrinsics, options.calibration_is_prior)) return {};
+  return SelectFreeIntrinsics(tracks.cameras, options.intrinsics);
 }
 
 PreparedHessians PrepareLocalHessians(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
@@ -80,7 +88,8 @@ PreparedHessians PrepareLocalHessians(const Reconstruction& tracks, const std::m
     for (const auto& [id, pose] : refined.poses) start[id] = pose;
   }
   out.motions = BuildLocalMotions(tracks, start, triplets, options.local_hessian, options.local_motions);
-  out.result = ComputeLocalHessians(tracks, out.motions, options.local_hessian);
+  const FreeIntrinsics free = SelectRefinedIntrinsics(tracks, options);
+  out.result = ComputeLocalHessians(tracks, out.motions, options.local_hessian, nullptr, free.empty() ? nullptr : &free);
   out.seconds = timer.Seconds();
   out.peak_rss_mb = PeakRssMb();
   return out;
@@ -94,8 +103,24 @@ std::map<uint32_t, Pose> PosesOf(const Reconstruction& rec) {
   return poses;
 }
 
+// Report rows of a camera's intrinsics: {camera_id, model, free: [{index, initial, final,
+// stddev}]} (stddev null where not computed).
+nlohmann::json IntrinsicsRecord(uint32_t id, const Camera& camera, const std::vector<int>& free,
+                                const Eigen::VectorXd& initial, const Eigen::VectorXd& final_values,
+                                const Eigen::VectorXd& stddev) {
+  nlohmann::json params = nlohmann::json::array();
+  for (size_t i = 0; i < free.size(); ++i)
+    params.push_back({{"index", free[i]},
+                      {"name", IntrinsicParamName(camera.model, free[i])},
+                      {"initial", initial(i)},
+                      {"final", final_values(i)},
+                      {"stddev", stddev.size() > static_cast<int>(i) ? NumberOrNull(stddev(i)) : nlohmann::json()}});
+  return {{"camera_id", id}, {"model", CameraModelName(camera.model)}, {"params", params},
+          {"final_params", camera.params}};
+}
+
 RefinementResult RefinePointBased(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
-                                  const PointBasedOptions& options, bool record_history) {
+                                  const PointBasedOptions& options, const FreeIntrinsics& free, bool record_history) {
   RefinementResult r;
   ResetPeakRss();
   Timer prepare;
@@ -105,6 +130,7 @@ RefinementResult RefinePointBased(const Reconstruction& tracks, const std::map<u
 
   BundleAdjustmentProblem problem;
   ChooseGauge(model, &problem);
+  problem.free_intrinsics = free;
   if (record_history) {
     r.history.push_back(PosesOf(model));
     problem.callback = [&r](const BundleAdjustmentIteration& it) {
@@ -112,6 +138,7 @@ RefinementResult RefinePointBased(const Reconstruction& tracks, const std::map<u
     };
   }
   r.num_params = 6 * static_cast<int>(model.images.size()) + 3 * static_cast<int>(model.points3D.size());
+  for (const auto& [id, f] : free) r.num_params += static_cast<int>(f.size());
   const bool two_passes = options.filter_max_error_px > 0;
   BundleAdjusterOptions first_pass = options.bundle;
   if (two_passes && !options.first_pass_loss.empty()) first_pass.loss = options.first_pass_loss;
@@ -130,6 +157,14 @@ RefinementResult RefinePointBased(const Reconstruction& tracks, const std::map<u
   r.adjust_seconds = adjust.Seconds();
   r.peak_rss_mb = PeakRssMb();
   r.poses = PosesOf(model);
+  if (!free.empty()) {
+    r.cameras = model.cameras;
+    for (const auto& [id, f] : free) {
+      const Eigen::VectorXd nan = Eigen::VectorXd::Constant(f.size(), std::numeric_limits<double>::quiet_NaN());
+      r.intrinsics.push_back(IntrinsicsRecord(id, model.cameras.at(id), f, GatherIntrinsics(tracks.cameras.at(id), f),
+                                              GatherIntrinsics(model.cameras.at(id), f), nan));
+    }
+  }
   r.details = {{"points", model.points3D.size()},
                {"observations", first.num_observations},
                {"observations_filtered", filtered},
@@ -157,6 +192,13 @@ RefinementResult RefineWithMotions(RefinementMethod method, const Reconstruction
   r.peak_rss_mb = std::max(PeakRssMb(), hessians.peak_rss_mb);
   r.poses = g.poses;
   r.excluded_images = g.summary.excluded_images;
+  if (!g.intrinsics.empty()) {
+    r.cameras = tracks.cameras;
+    for (const auto& [id, k] : g.intrinsics) {
+      ScatterIntrinsics(k.values, k.free, &r.cameras.at(id));
+      r.intrinsics.push_back(IntrinsicsRecord(id, r.cameras.at(id), k.free, k.initial, k.values, k.stddev));
+    }
+  }
   r.num_params = g.summary.num_params;
   r.iterations = g.summary.iterations;
   r.details = {{"motion_kind", options.local_motions.kind},
@@ -185,20 +227,26 @@ RefinementResult RefinePoses(RefinementMethod method, const Reconstruction& trac
                              bool record_history, const GcpInput* gcps) {
   RefinementResult r;
   if (method == RefinementMethod::kPointBased) {
-    r = RefinePointBased(tracks, initial, options.point_based, record_history);
+    r = RefinePointBased(tracks, initial, options.point_based, SelectRefinedIntrinsics(tracks, options), record_history);
   } else if (method == RefinementMethod::kPointBasedSplit) {
     Timer split;
     // Over the motions the local hessians model (the triplets unless local_motions.views > 3).
     const Reconstruction split_tracks =
         hessians ? SplitTracksByMotions(tracks, hessians->motions) : SplitTracksByTriplets(tracks, triplets);
     const double split_seconds = split.Seconds();
-    r = RefinePointBased(split_tracks, initial, options.point_based, record_history);
+    r = RefinePointBased(split_tracks, initial, options.point_based, SelectRefinedIntrinsics(tracks, options),
+                         record_history);
     r.prepare_seconds += split_seconds;
   } else {
     if (!hessians) throw std::invalid_argument("RefinePoses: local hessians are required for this method");
     r = RefineWithMotions(method, tracks, initial, *hessians, options, record_history, gcps);
   }
   r.method = method;
+  for (const auto& [id, camera] : r.cameras)  // a distortion estimated past invertibility, a focal <= 0
+    if (const std::string problem = camera.Validate(); !problem.empty())
+      throw InputError("self-calibration: the intrinsics estimated for camera " + std::to_string(id) +
+                       " are unusable (" + problem +
+                       "); hold them with intrinsics.cameras = \"none\" or intrinsics.refine_extra_params = false");
   PGBA_LOG_INFO << RefinementMethodName(method) << ": " << r.poses.size() << " poses, " << r.num_params
                 << " unknowns, " << r.iterations << " iterations, adjustment " << r.adjust_seconds
                 << " s (preparation " << r.prepare_seconds << " s)";

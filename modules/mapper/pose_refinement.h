@@ -74,7 +74,15 @@ struct RefinementOptions {
   LocalHessianOptions local_hessian = WholeTrackLocalHessianOptions();  // section "local_hessian"
   GlobalBAOptions global_ba = WholeTrackGlobalBAOptions();              // section "global_ba"
   PointBasedOptions point_based;                                         // section "point_based"
+  // Self-calibration (paper, "Self-calibrating bundle adjustment"): the intrinsic unknowns of
+  // every adjustment (local Hessians, pointless global BA, point-based BA).
+  IntrinsicsOptions intrinsics;                                          // section "intrinsics"
+  // Whether the tracks' calibration is only a prior (set by `pgba run` when no calibration
+  // file was given; IntrinsicsCameras::kAuto refines exactly then). Not a config key.
+  bool calibration_is_prior = false;
 };
+// The intrinsic unknowns `options` gives the cameras of `tracks` (empty: none).
+FreeIntrinsics SelectRefinedIntrinsics(const Reconstruction& tracks, const RefinementOptions& options);
 void AddRefinementSections(ConfigSchema* schema);
 void ReadRefinementOptions(const Config& config, RefinementOptions* options);
 
@@ -82,6 +90,11 @@ struct RefinementResult {
   RefinementMethod method = RefinementMethod::kPointless;
   std::map<uint32_t, Pose> poses;  // refined poses (images the method could adjust)
   std::vector<uint32_t> excluded_images;  // initial poses the method could not adjust
+  // With self-calibration: the refined cameras (the tracks' cameras with the estimated
+  // intrinsics; empty when none were estimated), and per camera {free indices, initial,
+  // final, stddev} for report.json.
+  std::map<uint32_t, Camera> cameras;
+  nlohmann::json intrinsics = nlohmann::json::array();
   int num_params = 0;   // unknowns: 6 per pose + 7 per triplet, or + 3 per point
   int iterations = 0;   // Levenberg-Marquardt iterations (all rounds / passes)
   // Wall time of the preparation (local Hessians; point triangulation) and of the

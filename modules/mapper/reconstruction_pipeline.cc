@@ -86,9 +86,22 @@ void Refine(const Reconstruction& tracks, const ReconstructionOptions& options, 
     out->refined.history.clear();
     timer.Stop()["iterations"] = out->convergence.size();
   }
+  if (!out->refined.cameras.empty()) {
+    (*report)["intrinsics"] = out->refined.intrinsics;
+    for (const nlohmann::json& camera : out->refined.intrinsics)
+      for (const nlohmann::json& p : camera["params"])
+        PGBA_LOG_INFO << "camera " << camera["camera_id"] << " parameter " << p["index"] << ": " << p["initial"]
+                      << " -> " << p["final"] << " (stddev " << p["stddev"] << ")";
+  }
   {
     StageTimer timer(report, "triangulation");
-    out->model = TriangulateModel(tracks, out->refined.poses);
+    if (out->refined.cameras.empty()) {
+      out->model = TriangulateModel(tracks, out->refined.poses);
+    } else {  // with the estimated intrinsics (sparse/cameras.txt holds them)
+      Reconstruction calibrated = tracks;
+      calibrated.cameras = out->refined.cameras;
+      out->model = TriangulateModel(calibrated, out->refined.poses);
+    }
     timer.Stop()["points"] = out->model.points3D.size();
   }
   std::vector<std::string> dropped = out->init.init.images_dropped;

@@ -83,7 +83,11 @@ RunOutput RunPipeline(const std::string& images_dir, const CalibrationInput& cal
   if (result.tracks.points3D.empty())
     throw InputError(images_dir + ": no verified matches between the images (do they overlap?)");
 
-  result.reconstruction = Reconstruct(result.tracks, options.reconstruction, report, /*record_convergence=*/true);
+  ReconstructionOptions reconstruction = options.reconstruction;
+  // Without a calibration file the cameras are priors (EXIF or the default focal): the
+  // default intrinsics.cameras "auto" then estimates them.
+  reconstruction.refinement.calibration_is_prior = features.calibration_source.rfind("file:", 0) != 0;
+  result.reconstruction = Reconstruct(result.tracks, reconstruction, report, /*record_convergence=*/true);
   WriteReconstruction(out, result.tracks, result.reconstruction);
   return result;
 }

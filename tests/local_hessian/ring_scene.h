@@ -33,6 +33,8 @@ struct RingSceneOptions {
   // Focal length (pixels, 1280 x 960 images): 800 is a wide lens; tens of thousands with a
   // ring radius far beyond the object radius make a telephoto ring (near-orthographic views).
   double focal_px = 800.0;
+  // Radial distortion: 0 gives a PINHOLE camera, otherwise SIMPLE_RADIAL with this k.
+  double k1 = 0.0;
   // Standard deviation of the aim point around the centre (scene units).
   double target_jitter = 0.3;
   uint64_t seed = 7;
@@ -57,10 +59,11 @@ inline Reconstruction MakeRingScene(const RingSceneOptions& o) {
   Reconstruction rec;
   Camera cam;
   cam.camera_id = 1;
-  cam.model = CameraModel::kPinhole;
+  cam.model = o.k1 == 0.0 ? CameraModel::kPinhole : CameraModel::kSimpleRadial;
   cam.width = 1280;
   cam.height = 960;
-  cam.params = {o.focal_px, o.focal_px, 640.0, 480.0};
+  cam.params = o.k1 == 0.0 ? std::vector<double>{o.focal_px, o.focal_px, 640.0, 480.0}
+                           : std::vector<double>{o.focal_px, 640.0, 480.0, o.k1};
   rec.cameras[1] = cam;
   for (int i = 0; i < o.num_images; ++i) {
     const double a = 2.0 * M_PI * o.arc_fraction * i / o.num_images;

@@ -11,6 +11,7 @@
 
 #include "modules/local_hessian/local_hessian.h"
 #include "modules/mapper/pose_refinement.h"
+#include "pgba/optim/intrinsics.h"
 #include "tests/global_ba/global_ba_fixture.h"
 #include "tests/local_hessian/ring_scene.h"
 
@@ -71,6 +72,23 @@ TEST(WholeTrackMotions, EveryTrackInExactlyOneMotionWithAllItsViews) {
   }
 }
 
+std::vector<LocalMotion> MotionsOfSix(const Reconstruction& rec, const std::map<uint32_t, Pose>& poses) {
+  WholeTrackMotionOptions o;
+  o.max_views = 6;
+  return SelectWholeTrackMotions(rec, poses, o);
+}
+
+// One motion holding every image and every track: its h is the point-based BA's system.
+LocalMotion WholeBlock(const Reconstruction& rec, const std::map<uint32_t, Pose>& poses) {
+  LocalMotion all;
+  for (const auto& [id, pose] : poses) {
+    all.image_ids.push_back(id);
+    all.local_poses.push_back(pose);
+  }
+  for (const auto& [id, p] : rec.points3D) all.track_ids.push_back(id);
+  return all;
+}
+
 // The sum of the local Hessians (without their gauge priors: h_points) of the whole-track
 // motions, all in the global frame at the same poses, equals the reduced camera system of
 // the whole block, to rounding. With triplets it does not (tracks cut, observations counted
@@ -79,17 +97,9 @@ TEST(WholeTrackMotions, SumOfLocalHessiansIsThePointBasedReducedCameraSystem) {
   const Reconstruction rec = Ring(16, 60.0, 5);
   const std::map<uint32_t, Pose> poses = PosesOf(rec);
   const LocalHessianOptions lh = WholeTrackLocalHessianOptions();
-  WholeTrackMotionOptions o;
-  o.max_views = 6;
-  const std::vector<LocalMotion> motions = SelectWholeTrackMotions(rec, poses, o);
+  const std::vector<LocalMotion> motions = MotionsOfSix(rec, poses);
   ASSERT_GT(motions.size(), 2u);
-
-  LocalMotion all;
-  for (const auto& [id, pose] : poses) {
-    all.image_ids.push_back(id);
-    all.local_poses.push_back(pose);
-  }
-  for (const auto& [id, p] : rec.points3D) all.track_ids.push_back(id);
+  const LocalMotion all = WholeBlock(rec, poses);
   const LocalHessian whole = ComputeLocalHessian(rec, all, 0, lh);
   ASSERT_EQ(whole.status, LocalHessianStatus::kOk);
   const Eigen::MatrixXd reference = whole.h - whole.prior;
@@ -109,6 +119,56 @@ TEST(WholeTrackMotions, SumOfLocalHessiansIsThePointBasedReducedCameraSystem) {
   }
   EXPECT_EQ(points, whole.num_points);
   EXPECT_LE((sum - reference).norm(), 1e-9 * reference.norm());
+}
+
+// The same with self-calibration (paper, "Self-calibrating bundle adjustment"): the focal and
+// the radial coefficient of the shared camera as unknowns of every h (6N + 2 rows). The
+// motions' intrinsic rows add up, like their pose rows, to the point-based system's.
+TEST(WholeTrackMotions, SumOfLocalHessiansWithIntrinsicsIsThePointBasedReducedCameraSystem) {
+  RingSceneOptions ro;
+  ro.num_images = 16;
+  ro.num_points = 1500;
+  ro.visibility_deg = 60.0;
+  ro.k1 = -0.08;
+  ro.seed = 5;
+  const Reconstruction rec = MakeRingScene(ro);
+  const std::map<uint32_t, Pose> poses = PosesOf(rec);
+  const LocalHessianOptions lh = WholeTrackLocalHessianOptions();
+  const FreeIntrinsics free = SelectFreeIntrinsics(rec.cameras, IntrinsicsOptions());
+  ASSERT_EQ(free.at(1), (std::vector<int>{0, 3}));  // SIMPLE_RADIAL: f and k
+  const std::vector<LocalMotion> motions = MotionsOfSix(rec, poses);
+  ASSERT_GT(motions.size(), 2u);
+  const LocalMotion all = WholeBlock(rec, poses);
+  const LocalHessian whole = ComputeLocalHessian(rec, all, 0, lh, nullptr, &free);
+  ASSERT_EQ(whole.status, LocalHessianStatus::kOk);
+  const int n = 6 * whole.num_views();
+  ASSERT_EQ(whole.h.rows(), n + 2);
+  ASSERT_EQ(whole.intrinsics0.size(), 2);
+  EXPECT_DOUBLE_EQ(whole.intrinsics0(0), ro.focal_px);
+  EXPECT_DOUBLE_EQ(whole.intrinsics0(1), ro.k1);
+  const Eigen::MatrixXd reference = whole.h - whole.prior;
+  EXPECT_GT(reference.bottomRightCorner(2, 2).diagonal().minCoeff(), 0.0);
+
+  std::map<uint32_t, int> slot;
+  for (size_t k = 0; k < all.image_ids.size(); ++k) slot[all.image_ids[k]] = static_cast<int>(k);
+  // Row of each unknown of motion h in the whole system: its views' pose rows, then the 2.
+  Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(reference.rows(), reference.cols());
+  for (size_t m = 0; m < motions.size(); ++m) {
+    const LocalHessian h = ComputeLocalHessian(rec, motions[m], static_cast<int>(m), lh, nullptr, &free);
+    ASSERT_EQ(h.status, LocalHessianStatus::kOk) << m;
+    ASSERT_EQ(h.num_intrinsics(), 2);
+    std::vector<int> row;
+    for (int a = 0; a < h.num_views(); ++a)
+      for (int c = 0; c < 6; ++c) row.push_back(6 * slot.at(h.image_ids[a]) + c);
+    row.push_back(n);
+    row.push_back(n + 1);
+    const Eigen::MatrixXd hp = h.h - h.prior;
+    for (int a = 0; a < hp.rows(); ++a)
+      for (int b = 0; b < hp.cols(); ++b) sum(row[a], row[b]) += hp(a, b);
+  }
+  EXPECT_LE((sum - reference).norm(), 1e-9 * reference.norm());
+  // The intrinsic rows alone (their entries are far smaller than the poses' in these units).
+  EXPECT_LE((sum - reference).bottomRows(2).norm(), 1e-9 * reference.bottomRows(2).norm());
 }
 
 }  // namespace

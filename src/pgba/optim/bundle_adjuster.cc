@@ -109,6 +109,7 @@ nlohmann::json ToJson(const BundleAdjustmentSummary& s) {
           {"num_free_poses", s.num_free_poses},
           {"num_points", s.num_points},
           {"num_observations", s.num_observations},
+          {"num_free_intrinsics", s.num_free_intrinsics},
           {"linear_solver", s.linear_solver},
           {"message", s.message}};
 }
@@ -131,6 +132,10 @@ BundleAdjustmentSummary BundleAdjust(const BundleAdjustmentProblem& problem, con
   ceres::LossFunction* loss = MakeLoss(options);  // shared by every residual; owned by the problem
   std::map<uint32_t, PoseBlock> blocks;
   std::vector<double*> point_blocks;
+  // The estimated cameras' parameters (copies, written back after the solve).
+  std::map<uint32_t, std::vector<double>> intrinsics;
+  for (const auto& [id, free] : problem.free_intrinsics)
+    if (rec->cameras.count(id)) intrinsics[id] = rec->cameras.at(id).params;
 
   for (uint64_t pid : track_ids) {
     auto it = rec->points3D.find(pid);
@@ -142,9 +147,15 @@ BundleAdjustmentSummary BundleAdjust(const BundleAdjustmentProblem& problem, con
       const Image& image = rec->images.at(el.image_id);
       auto [bit, inserted] = blocks.try_emplace(el.image_id);
       if (inserted) bit->second = PoseBlock::FromPose(image.pose);
-      ceres_problem.AddResidualBlock(
-          ReprojectionError::Create(&rec->CameraOf(image), bit->second.R0, image.points2D.at(el.point2D_idx).xy), loss,
-          bit->second.x.data(), point.xyz.data());
+      const Eigen::Vector2d& xy = image.points2D.at(el.point2D_idx).xy;
+      if (auto k = intrinsics.find(image.camera_id); k != intrinsics.end()) {
+        ceres_problem.AddResidualBlock(
+            CreateReprojectionErrorWithIntrinsics(rec->CameraOf(image).model, bit->second.R0, xy), loss,
+            bit->second.x.data(), point.xyz.data(), k->second.data());
+      } else {
+        ceres_problem.AddResidualBlock(ReprojectionError::Create(&rec->CameraOf(image), bit->second.R0, xy), loss,
+                                       bit->second.x.data(), point.xyz.data());
+      }
       ++summary.num_observations;
       any = true;
     }
@@ -159,6 +170,13 @@ BundleAdjustmentSummary BundleAdjust(const BundleAdjustmentProblem& problem, con
     return summary;
   }
   summary.num_points = static_cast<int>(point_blocks.size());
+  for (auto& [id, params] : intrinsics) {
+    if (!ceres_problem.HasParameterBlock(params.data())) continue;  // no participating image
+    const std::vector<int>& free = problem.free_intrinsics.at(id);
+    if (ceres::Manifold* m = HeldIntrinsicsManifold(static_cast<int>(params.size()), free))
+      ceres_problem.SetManifold(params.data(), m);
+    summary.num_free_intrinsics += static_cast<int>(free.size());
+  }
 
   for (auto& [id, b] : blocks) {
     if (constant.count(id) || (problem.fix_gauge && id == problem.gauge_anchor)) {
@@ -208,6 +226,7 @@ BundleAdjustmentSummary BundleAdjust(const BundleAdjustmentProblem& problem, con
   ceres::Solver::Summary ceres_summary;
   ceres::Solve(solver, &ceres_problem, &ceres_summary);
   WritePoses(blocks, rec);
+  for (const auto& [id, params] : intrinsics) rec->cameras.at(id).params = params;
 
   summary.usable = ceres_summary.IsSolutionUsable();
   summary.converged = ceres_summary.termination_type == ceres::CONVERGENCE;

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "pgba/optim/intrinsics.h"
 #include "pgba/scene/reconstruction.h"
 
 namespace pgba {
@@ -76,6 +77,9 @@ struct BundleAdjustmentProblem {
   bool fix_gauge = false;
   uint32_t gauge_anchor = 0;
   uint32_t gauge_scale = 0;
+  // Self-calibration: the cameras whose parameters at these indices are estimated (shared by
+  // their images) and written back to rec->cameras; every other camera is held.
+  FreeIntrinsics free_intrinsics;
   std::function<void(const BundleAdjustmentIteration&)> callback;
 };
 
@@ -91,13 +95,14 @@ struct BundleAdjustmentSummary {
   int num_free_poses = 0;
   int num_points = 0;
   int num_observations = 0;
+  int num_free_intrinsics = 0;  // camera parameters estimated
   std::string linear_solver;
   std::string message;  // Ceres' termination message
 };
 nlohmann::json ToJson(const BundleAdjustmentSummary& summary);
 
-// Adjusts `rec` in place: poses of the free participating images and xyz of the
-// participating points. Throws std::invalid_argument for an unknown loss/solver name or a
+// Adjusts `rec` in place: poses of the free participating images, xyz of the participating
+// points and the free intrinsics of their cameras. Throws std::invalid_argument for an unknown loss/solver name or a
 // gauge image without observations.
 BundleAdjustmentSummary BundleAdjust(const BundleAdjustmentProblem& problem, const BundleAdjusterOptions& options,
                                      Reconstruction* rec);

@@ -52,17 +52,19 @@ struct Camera {
   std::string Validate() const;
 };
 
-// Distortion of normalised coordinates (u, v) -> (u + du, v + dv) for the model.
-template <typename T>
-void DistortNormalized(CameraModel model, const double* params, const T& u, const T& v, T* ud, T* vd);
+// Distortion of normalised coordinates (u, v) -> (u + du, v + dv) for the model. `P` is the
+// parameters' scalar: double for held intrinsics, the Jet T itself when they are unknowns
+// (self-calibration, optim/intrinsics.h).
+template <typename T, typename P>
+void DistortNormalized(CameraModel model, const P* params, const T& u, const T& v, T* ud, T* vd);
 
 // Pixel of a camera-frame point: the one projection used by every cost function.
-template <typename T>
-void ProjectToPixel(CameraModel model, const double* params, const T* x_cam, T* pixel);
+template <typename T, typename P>
+void ProjectToPixel(CameraModel model, const P* params, const T* x_cam, T* pixel);
 
 // ---------------------------------------------------------------------------------------
-template <typename T>
-void DistortNormalized(CameraModel model, const double* p, const T& u, const T& v, T* ud, T* vd) {
+template <typename T, typename P>
+void DistortNormalized(CameraModel model, const P* p, const T& u, const T& v, T* ud, T* vd) {
   switch (model) {
     case CameraModel::kSimplePinhole:
     case CameraModel::kPinhole:
@@ -86,8 +88,8 @@ void DistortNormalized(CameraModel model, const double* p, const T& u, const T& 
       const T r2 = u * u + v * v;
       const T uv = u * v;
       const T radial = T(p[4]) * r2 + T(p[5]) * r2 * r2;
-      *ud = u + u * radial + T(2.0 * p[6]) * uv + T(p[7]) * (r2 + T(2.0) * u * u);
-      *vd = v + v * radial + T(2.0 * p[7]) * uv + T(p[6]) * (r2 + T(2.0) * v * v);
+      *ud = u + u * radial + T(2.0) * T(p[6]) * uv + T(p[7]) * (r2 + T(2.0) * u * u);
+      *vd = v + v * radial + T(2.0) * T(p[7]) * uv + T(p[6]) * (r2 + T(2.0) * v * v);
       return;
     }
   }
@@ -95,8 +97,8 @@ void DistortNormalized(CameraModel model, const double* p, const T& u, const T& 
   *vd = v;
 }
 
-template <typename T>
-void ProjectToPixel(CameraModel model, const double* p, const T* x_cam, T* pixel) {
+template <typename T, typename P>
+void ProjectToPixel(CameraModel model, const P* p, const T* x_cam, T* pixel) {
   const T u = x_cam[0] / x_cam[2];
   const T v = x_cam[1] / x_cam[2];
   T ud, vd;

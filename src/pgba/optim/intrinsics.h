@@ -1,0 +1,96 @@
+// Self-calibration (paper, "Self-calibrating bundle adjustment"): which of a camera's COLMAP
+// parameters (camera.h layouts) a bundle adjustment estimates, with COLMAP's switches, and the
+// reprojection residual that takes them as a parameter block. Intrinsics are per camera,
+// shared by all its images; every adjustment (point-based, triplet, local BA, local Hessians,
+// pointless global BA) uses the same selection, so that their unknowns agree.
+#pragma once
+
+#include <ceres/ceres.h>
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <vector>
+
+#include "pgba/optim/pose_parameterization.h"
+#include "pgba/scene/camera.h"
+
+namespace pgba {
+
+// Which cameras get intrinsic unknowns.
+enum class IntrinsicsCameras {
+  // Those whose calibration is only a prior: `pgba run` without a calibration file (focal from
+  // EXIF or 1.2 max(w, h), no distortion). A calibration the user gives is held (a lab
+  // calibration is better than what a block can estimate of itself).
+  kAuto,
+  kAll,   // every camera (e.g. tracks whose cameras.txt holds only a prior)
+  kNone,  // none: the calibration is exact
+};
+NLOHMANN_JSON_SERIALIZE_ENUM(IntrinsicsCameras, {{IntrinsicsCameras::kAuto, "auto"},
+                                                 {IntrinsicsCameras::kAll, "all"},
+                                                 {IntrinsicsCameras::kNone, "none"}})
+
+struct IntrinsicsOptions {
+  IntrinsicsCameras cameras = IntrinsicsCameras::kAuto;
+  // COLMAP's switches and defaults: the focal (f, or fx and fy) and the distortion
+  // coefficients are estimated, the principal point is not (it is weakly determined and
+  // correlates with the rotations; COLMAP holds it unless asked).
+  bool refine_focal_length = true;
+  bool refine_principal_point = false;
+  bool refine_extra_params = true;
+};
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(IntrinsicsOptions, cameras, refine_focal_length,
+                                                refine_principal_point, refine_extra_params)
+
+// Whether the cameras get unknowns: options.cameras resolved for a calibration that is a
+// prior (true) or given (false).
+bool RefinesIntrinsics(const IntrinsicsOptions& options, bool calibration_is_prior);
+
+// Indices into Camera::params estimated for this model under the switches, ascending.
+std::vector<int> FreeIntrinsicIndices(CameraModel model, const IntrinsicsOptions& options);
+
+// COLMAP's name of parameter `index` of the model ("f", "cx", "k", "fx", "k1", "p2", ...).
+const char* IntrinsicParamName(CameraModel model, int index);
+
+// Camera id -> its free parameter indices; cameras without any are absent (empty: all held).
+using FreeIntrinsics = std::map<uint32_t, std::vector<int>>;
+FreeIntrinsics SelectFreeIntrinsics(const std::map<uint32_t, Camera>& cameras, const IntrinsicsOptions& options);
+
+// The free parameters of `camera` (values at `free`'s indices) and back.
+Eigen::VectorXd GatherIntrinsics(const Camera& camera, const std::vector<int>& free);
+void ScatterIntrinsics(const Eigen::VectorXd& values, const std::vector<int>& free, Camera* camera);
+
+// The Ceres manifold of a full parameter block that holds all but `free` (nullptr when all
+// are free); the caller sets the block constant when `free` is empty.
+ceres::Manifold* HeldIntrinsicsManifold(int num_params, const std::vector<int>& free);
+
+// Pixel reprojection residual with the camera parameters as a block: (pose[6], point[3],
+// params[n]), n = CameraModelNumParams(model). The same projection as ReprojectionError.
+struct ReprojectionErrorWithIntrinsics {
+  ReprojectionErrorWithIntrinsics(CameraModel model, const Eigen::Matrix3d& R0, const Eigen::Vector2d& pixel,
+                                  double weight)
+      : model(model), R0(R0), pixel(pixel), weight(weight) {}
+
+  template <typename T>
+  bool operator()(const T* pose, const T* X, const T* params, T* residual) const {
+    T xc[3];
+    WorldToCamera(R0, pose, X, xc);
+    T px[2];
+    ProjectToPixel(model, params, xc, px);
+    residual[0] = T(weight) * (px[0] - T(pixel.x()));
+    residual[1] = T(weight) * (px[1] - T(pixel.y()));
+    return true;
+  }
+
+  CameraModel model;
+  Eigen::Matrix3d R0;
+  Eigen::Vector2d pixel;
+  double weight;
+};
+
+// The residual above for the camera's model (blocks: pose, point, the camera's full params).
+ceres::CostFunction* CreateReprojectionErrorWithIntrinsics(CameraModel model, const Eigen::Matrix3d& R0,
+                                                           const Eigen::Vector2d& pixel, double weight = 1.0);
+
+}  // namespace pgba
