@@ -120,7 +120,11 @@ void Refine(const Reconstruction& tracks, const ReconstructionOptions& options, 
 ReconstructionOutput Reconstruct(const Reconstruction& tracks, const ReconstructionOptions& options, Report* report,
                                  bool record_convergence) {
   ReconstructionOutput out;
-  out.init = RunGlobalMapper(tracks, options.mapper, report);
+  GlobalMapperOptions mapper = options.mapper;
+  // Self-calibration reaches back to the triplet BA: a calibration that is only a prior bends
+  // the relative motions the averaging starts from (TripletOptions::refine_intrinsics).
+  if (!SelectRefinedIntrinsics(tracks, options.refinement).empty()) mapper.triplets.refine_intrinsics = true;
+  out.init = RunGlobalMapper(tracks, mapper, report);
   Refine(tracks, options, report, record_convergence, /*hessians_given=*/false, &out);
   return out;
 }

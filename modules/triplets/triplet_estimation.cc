@@ -183,6 +183,7 @@ TripletEstimate EstimateTriplet(const TrackIndex& index, const std::array<uint32
   problem.fix_gauge = true;
   problem.gauge_anchor = ids[va];
   problem.gauge_scale = ids[vb];
+  if (options.refine_intrinsics) problem.free_intrinsics = SelectFreeIntrinsics(local.cameras, IntrinsicsOptions());
   BundleAdjusterOptions ba = options.bundle_adjuster;
   ba.num_threads = 1;
   BundleAdjustmentSummary summary;
