@@ -48,6 +48,11 @@ Reconstruction MatchOrReuse(const FeatureExtractionResult& features, const fs::p
   StageTimer timer(report, "match");
   if (CachedTracksValid(out, key)) {
     Reconstruction tracks = ReadColmapText((out / "tracks").string());
+    // cameras.txt does not hold Camera::has_prior_focal_length: the catalog's cameras (the
+    // same ids, the same images) do.
+    bool same_ids = tracks.cameras.size() == features.index.cameras.size();
+    for (const auto& [id, cam] : tracks.cameras) same_ids = same_ids && features.index.cameras.count(id);
+    if (same_ids) tracks.cameras = features.index.cameras;
     nlohmann::json& stage = timer.Stop();
     stage["cached"] = true;
     stage["tracks"] = tracks.points3D.size();
