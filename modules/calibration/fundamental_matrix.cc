@@ -75,12 +75,12 @@ FundamentalMatrixResult EstimateFundamentalMatrix(const std::vector<Eigen::Vecto
                                                   const std::vector<Eigen::Vector2d>& x2,
                                                   const FundamentalMatrixOptions& options) {
   if (x1.size() != x2.size()) throw std::invalid_argument("EstimateFundamentalMatrix: mismatched correspondences");
-  FundamentalMatrixResult result;
   const size_t n = x1.size();
-  const int min_inliers = std::max(8, options.min_inliers);
-  result.inlier_mask.assign(n, 0);
-  if (n < static_cast<size_t>(min_inliers)) return result;
-
+  if (n < static_cast<size_t>(std::max(8, options.min_inliers))) {
+    FundamentalMatrixResult none;
+    none.inlier_mask.assign(n, 0);
+    return none;
+  }
   std::vector<cv::Point2d> p1(n), p2(n);
   for (size_t i = 0; i < n; ++i) {
     p1[i] = {x1[i].x(), x1[i].y()};
@@ -89,11 +89,27 @@ FundamentalMatrixResult EstimateFundamentalMatrix(const std::vector<Eigen::Vecto
   cv::Mat mask;
   const cv::Mat Fcv = cv::findFundamentalMat(p1, p2, cv::FM_RANSAC, options.threshold_px, options.confidence,
                                              options.max_iterations, mask);
-  if (Fcv.rows != 3 || Fcv.cols != 3) return result;  // no model (or several: 7 points exactly)
+  if (Fcv.rows != 3 || Fcv.cols != 3) {  // no model (or several: 7 points exactly)
+    FundamentalMatrixResult none;
+    none.inlier_mask.assign(n, 0);
+    return none;
+  }
   Eigen::Matrix3d F;
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) F(r, c) = Fcv.at<double>(r, c);
-  F /= F.norm();
+  return RefineFundamentalMatrix(x1, x2, F, options);
+}
+
+FundamentalMatrixResult RefineFundamentalMatrix(const std::vector<Eigen::Vector2d>& x1,
+                                                const std::vector<Eigen::Vector2d>& x2, const Eigen::Matrix3d& initial,
+                                                const FundamentalMatrixOptions& options) {
+  if (x1.size() != x2.size()) throw std::invalid_argument("RefineFundamentalMatrix: mismatched correspondences");
+  FundamentalMatrixResult result;
+  const size_t n = x1.size();
+  const int min_inliers = std::max(8, options.min_inliers);
+  result.inlier_mask.assign(n, 0);
+  if (n < static_cast<size_t>(min_inliers) || !(initial.norm() > 0)) return result;
+  Eigen::Matrix3d F = initial / initial.norm();
 
   const auto mark_inliers = [&](const Eigen::Matrix3d& model) {
     int count = 0;

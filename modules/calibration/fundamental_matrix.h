@@ -54,6 +54,13 @@ FundamentalMatrixResult EstimateFundamentalMatrix(const std::vector<Eigen::Vecto
                                                   const std::vector<Eigen::Vector2d>& x2,
                                                   const FundamentalMatrixOptions& options);
 
+// The refinement alone, from `initial` (any F of the pair): inliers of `initial` at the
+// threshold, then the reweighted 8-point iterations (inliers re-marked after each). What
+// EstimateFundamentalMatrix runs after its RANSAC; success = false below min_inliers.
+FundamentalMatrixResult RefineFundamentalMatrix(const std::vector<Eigen::Vector2d>& x1,
+                                                const std::vector<Eigen::Vector2d>& x2, const Eigen::Matrix3d& initial,
+                                                const FundamentalMatrixOptions& options);
+
 // First-order geometric distance of x1 <-> x2 to the epipolar constraint, pixels (H&Z 11.9).
 double SampsonDistance(const Eigen::Matrix3d& F, const Eigen::Vector2d& x1, const Eigen::Vector2d& x2);
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "modules/calibration/radial_distortion_search.h"
 #include "modules/triplets/track_index.h"
 #include "pgba/util/logging.h"
 #include "pgba/util/timer.h"
@@ -14,16 +15,6 @@ namespace pgba {
 namespace {
 
 bool HasTwoFocals(CameraModel m) { return m == CameraModel::kPinhole || m == CameraModel::kOpenCV; }
-
-// The pinhole part of a camera: pixel = K * (undistorted normalised coordinates, 1).
-Eigen::Matrix3d PinholeMatrix(const Camera& c) {
-  const std::vector<double>& p = c.params;
-  const bool two = HasTwoFocals(c.model);
-  const double fx = p[0], fy = two ? p[1] : p[0], cx = two ? p[2] : p[1], cy = two ? p[3] : p[2];
-  Eigen::Matrix3d K;
-  K << fx, 0, cx, 0, fy, cy, 0, 0, 1;
-  return K;
-}
 
 // r^2 of eq. (1) for an essential matrix of rank <= 2.
 double GapSquared(const Eigen::Matrix3d& E) {
@@ -41,6 +32,7 @@ double GapSquared(const Eigen::Matrix3d& E) {
 // diag(s1, s1, 1), since K(s) = K_prior diag(s, s, 1).
 struct PairModel {
   uint32_t camera1 = 0, camera2 = 0;
+  PairPixels pixels;  // raw pixels of the shared tracks; F of their pinhole pixels
   Eigen::Matrix3d F_hat = Eigen::Matrix3d::Zero();
   int inliers = 0;
   bool ok = false;
@@ -51,6 +43,12 @@ double PairGapSquared(const PairModel& m, double s1, double s2) {
   return GapSquared(d2.asDiagonal() * m.F_hat * d1.asDiagonal());
 }
 
+void SetNormalisedF(const Camera& c1, const Camera& c2, const Eigen::Matrix3d& F, PairModel* model) {
+  const Eigen::Matrix3d F_hat = PinholeMatrix(c2).transpose() * F * PinholeMatrix(c1);
+  model->F_hat = F_hat / F_hat.norm();
+  model->ok = model->F_hat.allFinite();
+}
+
 PairModel EstimatePairModel(const TrackIndex& index, const TwoViewGeometry& pair,
                             const std::map<uint32_t, Camera>& cameras, const FundamentalMatrixOptions& options) {
   PairModel model;
@@ -59,21 +57,24 @@ PairModel EstimatePairModel(const TrackIndex& index, const TwoViewGeometry& pair
   model.camera2 = tracks.images.at(pair.image_id2).camera_id;
   const Camera& c1 = cameras.at(model.camera1);
   const Camera& c2 = cameras.at(model.camera2);
-  const Eigen::Matrix3d K1 = PinholeMatrix(c1), K2 = PinholeMatrix(c2);
-  // Pixels of the shared tracks, undistorted by the current cameras (pixels of their pinhole
-  // part, so that the RANSAC threshold stays in pixels).
-  std::vector<Eigen::Vector2d> x1, x2;
   for (const auto& [k1, k2] : index.SharedObservations(pair.image_id1, pair.image_id2)) {
-    x1.push_back((K1 * c1.PixelToNormalized(index.Pixel(pair.image_id1, k1)).homogeneous()).hnormalized());
-    x2.push_back((K2 * c2.PixelToNormalized(index.Pixel(pair.image_id2, k2)).homogeneous()).hnormalized());
+    model.pixels.x1.push_back(index.Pixel(pair.image_id1, k1));
+    model.pixels.x2.push_back(index.Pixel(pair.image_id2, k2));
   }
-  const FundamentalMatrixResult f = EstimateFundamentalMatrix(x1, x2, options);
+  // On the pixels undistorted by the current cameras (pixels of their pinhole part, so that
+  // the RANSAC threshold stays in pixels).
+  const FundamentalMatrixResult f =
+      EstimateFundamentalMatrix(PinholePixels(c1, model.pixels.x1), PinholePixels(c2, model.pixels.x2), options);
   if (!f.success) return model;
-  const Eigen::Matrix3d F_hat = K2.transpose() * f.F * K1;
-  model.F_hat = F_hat / F_hat.norm();
+  model.pixels.F = f.F;
   model.inliers = f.num_inliers;
-  model.ok = model.F_hat.allFinite();
+  SetNormalisedF(c1, c2, f.F, &model);
   return model;
+}
+
+bool DistortionFree(const Camera& c) {
+  const int k = RadialCoefficientIndex(c.model);
+  return k >= 0 && std::all_of(c.params.begin() + k, c.params.end(), [](double v) { return v == 0.0; });
 }
 
 // The cost of one camera's pairs with its factor exp(x), the others' factors as given.
@@ -172,6 +173,7 @@ std::string ViewGraphCalibrationOptions::Check() const {
   if (!(max_relative_sd > 0)) return "max_relative_sd must be > 0";
   if (max_sweeps < 1) return "max_sweeps must be >= 1";
   if (max_pairs_per_camera < 0) return "max_pairs_per_camera must be >= 0 (0 = all)";
+  if (!(max_abs_k1 > 0 && max_abs_k1 <= 1)) return "max_abs_k1 must be in (0, 1]";
   return "";
 }
 
@@ -189,6 +191,9 @@ nlohmann::json ViewGraphCalibrationResult::ToJson() const {
                     {"pairs_used", c.pairs_used},
                     {"rms_gap_prior", c.rms_gap_prior},
                     {"rms_gap_estimate", c.rms_gap_estimate},
+                    {"k1_searched", c.k1_searched},
+                    {"estimated_k1", c.estimated_k1},
+                    {"sampson_cost_ratio", c.sampson_cost_ratio},
                     {"applied", c.applied},
                     {"reason", c.reason}});
   return {{"cameras", list},
@@ -258,6 +263,34 @@ ViewGraphCalibrationResult CalibrateFocalsFromViewGraph(const Reconstruction& tr
       list.resize(options.max_pairs_per_camera);
   }
 
+  // The lens's k1 first (radial_distortion_search.h), for the distortion-free cameras with a
+  // radial coefficient, from their pairs with themselves; their pairs' F are then refined
+  // on the pixels undistorted with it.
+  std::map<uint32_t, Camera> working = *cameras;
+  for (CameraFocalEstimate& c : result.cameras) {
+    const Camera& cam = cameras->at(c.camera_id);
+    if (!options.estimate_k1 || !DistortionFree(cam)) continue;
+    std::vector<const PairPixels*> own;
+    for (const PairModel* m : pairs_of[c.camera_id])
+      if (m->camera1 == m->camera2) own.push_back(&m->pixels);
+    const RadialSearchResult k = SearchRadialDistortion(cam, own, options.fundamental, options.max_abs_k1);
+    if (!k.searched || !(k.cost < k.cost_at_zero)) continue;
+    working[c.camera_id].params[RadialCoefficientIndex(cam.model)] = k.k1;
+    c.k1_searched = true;
+    c.sampson_cost_ratio = k.cost_at_zero > 0 ? k.cost / k.cost_at_zero : 1.0;
+  }
+  tbb::parallel_for(size_t(0), models.size(), [&](size_t i) {
+    PairModel& m = models[i];
+    if (!m.ok) return;
+    const Camera& w1 = working.at(m.camera1);
+    const Camera& w2 = working.at(m.camera2);
+    if (w1.params == cameras->at(m.camera1).params && w2.params == cameras->at(m.camera2).params) return;
+    const FundamentalMatrixResult f =
+        RefineFundamentalMatrix(PinholePixels(w1, m.pixels.x1), PinholePixels(w2, m.pixels.x2), m.pixels.F,
+                                options.fundamental);
+    if (f.success) SetNormalisedF(w1, w2, f.F, &m);
+  });
+
   const double lo = std::log(options.min_focal_ratio), hi = std::log(options.max_focal_ratio);
   const int sweeps = result.cameras.size() > 1 ? options.max_sweeps : 1;
   for (int sweep = 0; sweep < sweeps; ++sweep) {
@@ -291,7 +324,23 @@ ViewGraphCalibrationResult CalibrateFocalsFromViewGraph(const Reconstruction& tr
                  std::to_string(options.max_relative_sd) + "): the pairs' geometry does not determine the focal";
     }
     c.applied = c.reason.empty();
-    if (c.applied) (*cameras)[c.camera_id] = ScaleFocal(cameras->at(c.camera_id), factors[c.camera_id]);
+    if (!c.applied) continue;
+    // k1 was found in the prior's normalised coordinates u' = (x - c) / f'; the distorted
+    // pixel radius f' r' (1 + k1' r'^2) is f r (1 + k1 r^2) with f = s f', r = r' / s:
+    // k1 = k1' s^2.
+    const double s = factors[c.camera_id];
+    Camera updated = ScaleFocal(working.at(c.camera_id), s);
+    const int k = RadialCoefficientIndex(updated.model);
+    if (c.k1_searched) {
+      updated.params[k] *= s * s;
+      c.estimated_k1 = updated.params[k];
+    }
+    if (!updated.Validate().empty()) {  // cannot happen for a k1 valid at the prior focal; kept safe
+      updated = ScaleFocal(cameras->at(c.camera_id), s);
+      c.k1_searched = false;
+      c.estimated_k1 = 0.0;
+    }
+    (*cameras)[c.camera_id] = updated;
   }
   result.seconds = timer.Seconds();
   return result;

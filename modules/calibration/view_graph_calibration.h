@@ -62,6 +62,12 @@ struct ViewGraphCalibrationOptions {
   double max_relative_sd = 0.05;
   // Rounds of one-camera-at-a-time minimisation when several cameras are estimated.
   int max_sweeps = 5;
+  // Estimate the radial k1 of the distortion-free cameras with a radial coefficient
+  // (SIMPLE_RADIAL, RADIAL, OPENCV) from their pairs first (radial_distortion_search.h),
+  // searched in [-max_abs_k1, max_abs_k1] (normalised coordinates of the prior focal); the
+  // camera gets it with its focal.
+  bool estimate_k1 = true;
+  double max_abs_k1 = 0.3;
   // Pairs used per camera at most, those with the most fundamental-matrix inliers first
   // (bounds the work on large sets; 0 = all).
   int max_pairs_per_camera = 400;
@@ -70,7 +76,7 @@ struct ViewGraphCalibrationOptions {
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(ViewGraphCalibrationOptions, cameras, fundamental, loss_scale,
                                                 min_focal_ratio, max_focal_ratio, min_pairs, max_relative_sd,
-                                                max_sweeps, max_pairs_per_camera)
+                                                max_sweeps, estimate_k1, max_abs_k1, max_pairs_per_camera)
 
 struct CameraFocalEstimate {
   uint32_t camera_id = 0;
@@ -80,7 +86,10 @@ struct CameraFocalEstimate {
   int pairs_used = 0;            // pairs with a fundamental matrix touching the camera
   double rms_gap_prior = 0.0;    // RMS of r (1) over its pairs at the prior focal
   double rms_gap_estimate = 0.0;  // ... at the estimate
-  bool applied = false;          // the camera now has the estimated focal
+  bool k1_searched = false;      // a k1 was found (it lowered the pairs' Sampson cost)
+  double estimated_k1 = 0.0;     // with the estimated focal (applied with it)
+  double sampson_cost_ratio = 1.0;  // the pairs' Sampson cost with k1 / without
+  bool applied = false;          // the camera now has the estimated focal (and k1)
   std::string reason;            // why not applied (empty if applied)
 };
 
