@@ -27,9 +27,9 @@ TEST(SyntheticFocal, OrbitWithDistortionAndAWrongPrior) {
             << ", " << 100.0 * (c.estimated_focal / truth - 1.0) << "%), k1 " << c.estimated_k1 << ", "
             << c.pairs_used << " pairs" << std::endl;
   ASSERT_TRUE(c.applied) << c.reason;
-  // Measured: -1.99% (from a prior at +15%); k1 -0.0753.
-  EXPECT_NEAR(c.estimated_focal / truth, 1.0, 0.025);
-  EXPECT_NEAR(c.estimated_k1, -0.08, 0.01);
+  // Measured: -1.64% (from a prior at +15%); k1 -0.0759.
+  EXPECT_NEAR(c.estimated_focal / truth, 1.0, 0.02);
+  EXPECT_NEAR(c.estimated_k1, -0.08, 0.008);
   EXPECT_EQ(r.cameras.at(1).params[0], c.estimated_focal);
   EXPECT_EQ(r.cameras.at(1).params[3], c.estimated_k1);
   const nlohmann::json& stages = report["stages"];
