@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "modules/calibration/grid_search.h"
+
 namespace pgba {
 namespace {
 
@@ -70,46 +72,11 @@ RadialSearchResult SearchRadialDistortion(const Camera& camera, const std::vecto
     for (double v : slot) sum += v;  // in pair order: the same sum whatever the scheduling
     return sum;
   };
-  // Grid, then golden section between the neighbours of the best node.
-  constexpr int kNodes = 21;
-  int best = kNodes / 2;
-  double best_cost = INFINITY;
-  std::vector<double> nodes(kNodes);
-  for (int k = 0; k < kNodes; ++k) {
-    nodes[k] = -max_abs_k1 + 2.0 * max_abs_k1 * k / (kNodes - 1);
-    const double c = cost(nodes[k]);
-    if (c < best_cost) {
-      best_cost = c;
-      best = k;
-    }
-  }
-  double a = nodes[std::max(0, best - 1)], b = nodes[std::min(kNodes - 1, best + 1)];
-  const double g = 0.5 * (std::sqrt(5.0) - 1.0);
-  double c = b - g * (b - a), d = a + g * (b - a);
-  double fc = cost(c), fd = cost(d);
-  while (b - a > 1e-4 * max_abs_k1) {
-    if (fc < fd) {
-      b = d;
-      d = c;
-      fd = fc;
-      c = b - g * (b - a);
-      fc = cost(c);
-    } else {
-      a = c;
-      c = d;
-      fc = fd;
-      d = a + g * (b - a);
-      fd = cost(d);
-    }
-  }
+  const GridMinimum m = MinimiseByGridAndGoldenSection(cost, -max_abs_k1, max_abs_k1, 21, 1e-4 * max_abs_k1);
   result.searched = true;
-  result.k1 = 0.5 * (a + b);
-  result.cost = cost(result.k1);
+  result.k1 = m.x;
+  result.cost = m.cost;
   result.cost_at_zero = cost(0.0);
-  if (!(result.cost <= best_cost)) {  // the bracket's middle is not below the best node
-    result.k1 = nodes[best];
-    result.cost = best_cost;
-  }
   return result;
 }
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "modules/calibration/grid_search.h"
 #include "modules/calibration/radial_distortion_search.h"
 #include "modules/triplets/track_index.h"
 #include "pgba/util/logging.h"
@@ -107,47 +108,6 @@ class CameraCost {
   const std::map<uint32_t, double>& factors_;
   double a2_;
 };
-
-struct Minimum {
-  double x = 0.0;
-  bool at_bound = false;
-};
-
-// Grid over [lo, hi], then golden-section search between the neighbours of the best node.
-template <typename Cost>
-Minimum MinimiseOnInterval(const Cost& cost, double lo, double hi) {
-  constexpr int kNodes = 161;
-  int best = 0;
-  double best_cost = INFINITY;
-  for (int k = 0; k < kNodes; ++k) {
-    const double c = cost(lo + (hi - lo) * k / (kNodes - 1));
-    if (c < best_cost) {
-      best_cost = c;
-      best = k;
-    }
-  }
-  const double step = (hi - lo) / (kNodes - 1);
-  double a = lo + step * std::max(0, best - 1), b = lo + step * std::min(kNodes - 1, best + 1);
-  const double g = 0.5 * (std::sqrt(5.0) - 1.0);
-  double c = b - g * (b - a), d = a + g * (b - a);
-  double fc = cost(c), fd = cost(d);
-  while (b - a > 1e-9) {
-    if (fc < fd) {
-      b = d;
-      d = c;
-      fd = fc;
-      c = b - g * (b - a);
-      fc = cost(c);
-    } else {
-      a = c;
-      c = d;
-      fc = fd;
-      d = a + g * (b - a);
-      fd = cost(d);
-    }
-  }
-  return {0.5 * (a + b), best == 0 || best == kNodes - 1};
-}
 
 // Gauss-Newton standard deviation of the minimiser x of a sum of n squared residuals C:
 // var(x) = sigma^2 (J^T J)^-1 with J^T J ~ C'' / 2 and sigma^2 = C / (n - 1).
@@ -300,7 +260,7 @@ ViewGraphCalibrationResult CalibrateFocalsFromViewGraph(const Reconstruction& tr
       c.pairs_used = static_cast<int>(list.size());
       if (c.pairs_used < options.min_pairs) continue;
       const CameraCost cost(c.camera_id, list, factors, options.loss_scale);
-      const Minimum m = MinimiseOnInterval(cost, lo, hi);
+      const GridMinimum m = MinimiseByGridAndGoldenSection(cost, lo, hi, 161, 1e-9);
       largest_change = std::max(largest_change, std::abs(m.x - std::log(factors[c.camera_id])));
       factors[c.camera_id] = std::exp(m.x);
       c.reason = m.at_bound ? "the minimum is at the bound of the search interval" : "";
