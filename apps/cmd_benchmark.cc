@@ -68,7 +68,9 @@ void RegisterBenchmark(CLI::App& app) {
     fs::remove(fs::path(args->out) / "benchmark.json");  // a failed run must not leave an earlier result
     Report report;
     const GlobalMapperResult init = RunGlobalMapper(tracks, options.mapper, &report);
-    const BenchmarkResult result = RunBenchmark(tracks, init, args->gt.empty() ? nullptr : &gt,
+    // Every method runs with the cameras the mapper ends with (focals from the view graph).
+    const Reconstruction calibrated = TracksWithCameras(tracks, init.cameras);
+    const BenchmarkResult result = RunBenchmark(calibrated, init, args->gt.empty() ? nullptr : &gt,
                                                 args->loop.empty() ? nullptr : &loops, options);
 
     const fs::path out(args->out);

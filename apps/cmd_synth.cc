@@ -1,12 +1,17 @@
 // pgba synth --scenario S --out DIR [--seed N] [--noise PX] [--outliers F] [--images N]
-// Writes DIR/gt/ (true poses and points, noisy observations), DIR/input/ (same cameras,
-// observations and tracks; poses identity, points at the origin) and, for scenarios that
-// withhold a loop, DIR/loop_pairs.txt.
+//   [--k1 K] [--focal-prior-error E]
+// Writes DIR/gt/ (true camera, poses and points, noisy observations), DIR/input/ (the prior
+// camera, same observations and tracks; poses identity, points at the origin) and, for
+// scenarios that withhold a loop, DIR/loop_pairs.txt.
 //
 // pgba synth --render --out DIR [--seed N] [--images N] [--width W] [--height H] [--focal F]
-//   [--supersampling S] [--image-noise G]
+//   [--supersampling S] [--image-noise G] [--k1 K] [--focal-prior-error E]
 // Renders photographs of a textured room from a ring of known poses (rendered_scene.h):
-// DIR/images/*.png, DIR/cameras.txt, DIR/gt/ (poses only), DIR/loop.txt.
+// DIR/images/*.png, DIR/cameras.txt (the prior), DIR/gt/ (true camera and poses), DIR/loop.txt.
+//
+// --k1: radial distortion of the true lens (SIMPLE_RADIAL); --focal-prior-error: relative
+// error of the calibration handed to the pipeline, which has no distortion
+// (modules/synthetic/synthetic_lens.h).
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -15,6 +20,7 @@
 
 #include "apps/commands.h"
 #include "modules/synthetic/rendered_scene.h"
+#include "modules/synthetic/synthetic_lens.h"
 #include "modules/synthetic/synthetic_scene.h"
 #include "pgba/io/colmap_text.h"
 #include "pgba/io/loop_pairs.h"
@@ -41,10 +47,11 @@ int RunRender(const SynthArgs& args) {
   Timer timer;
   WriteRenderedScene(scene, args.out);
   const Camera& cam = scene.gt.cameras.at(1);
-  std::printf("synth --render room (seed %llu): %zu images %dx%d, f %.1f px, ring extent %.2f m, rendered in %.2f s, "
-              "written in %.2f s\n",
+  std::printf("synth --render room (seed %llu): %zu images %dx%d, %s f %.1f px (prior %.1f px), ring extent %.2f m, "
+              "rendered in %.2f s, written in %.2f s\n",
               static_cast<unsigned long long>(options.seed), scene.images.size(), cam.width, cam.height,
-              cam.params[0], scene.extent, scene.seconds, timer.Seconds());
+              CameraModelName(cam.model), cam.params[0], scene.calibration.params[0], scene.extent, scene.seconds,
+              timer.Seconds());
   std::printf("wrote %s/{images/, cameras.txt, gt/, loop.txt}\n", args.out.c_str());
   return 0;
 }
@@ -78,6 +85,10 @@ int RunSynth(const SynthArgs& args) {
       SyntheticScenarioName(options.scenario), static_cast<unsigned long long>(options.seed), options.noise_px,
       options.outlier_fraction, scene.gt.images.size(), points, obs, points ? double(obs) / points : 0.0,
       scene.outliers.size(), scene.loop_pairs.size(), scene.extent, generate_s);
+  const Camera& truth = scene.gt.cameras.begin()->second;
+  const Camera& prior = scene.input.cameras.begin()->second;
+  std::printf("camera: %s f %.1f px (input/: %s f %.1f px)\n", CameraModelName(truth.model), truth.MeanFocal(),
+              CameraModelName(prior.model), prior.MeanFocal());
   std::printf("wrote %s/gt, %s/input%s\n", out.string().c_str(), out.string().c_str(),
               scene.loop_pairs.empty() ? "" : (", " + loop.string()).c_str());
   return 0;
@@ -109,6 +120,12 @@ void RegisterSynth(CLI::App& app) {
                   "--render: samples per pixel and axis, 1..4 (default 2)");
   sub->add_option("--image-noise", args->render_options.image_noise,
                   "--render: Gaussian pixel noise, grey levels (default 1.5)");
+  sub->add_option("--k1", args->options.k1,
+                  "Radial distortion k1 of the true lens, in [-1, 1] and invertible over the image (default 0: "
+                  "pinhole); gt/ holds SIMPLE_RADIAL");
+  sub->add_option("--focal-prior-error", args->options.focal_prior_error,
+                  "Relative error of the focal of the calibration given to the pipeline (input/, or cameras.txt "
+                  "with --render), in [-0.5, 1], distortion 0 (default 0)");
   AddCommand(app, sub, [args, sub] {
     SynthArgs a = *args;
     if (a.seed < 0) ThrowInputError("--seed", 0, "must be >= 0, got " + std::to_string(a.seed));
@@ -118,6 +135,8 @@ void RegisterSynth(CLI::App& app) {
       for (const char* opt : kTrackOnly)
         if (sub->count(opt)) ThrowInputError(opt, 0, "does not apply to --render");
       if (sub->count("--images")) a.render_options.num_images = a.options.num_images;
+      a.render_options.k1 = a.options.k1;
+      a.render_options.focal_prior_error = a.options.focal_prior_error;
       return RunRender(a);
     }
     for (const char* opt : kRenderOnly)
@@ -134,6 +153,7 @@ void RegisterSynth(CLI::App& app) {
       ThrowInputError("--noise", 0, "must be a finite number >= 0 px");
     if (!(a.options.outlier_fraction >= 0.0 && a.options.outlier_fraction < 1.0))
       ThrowInputError("--outliers", 0, "must be in [0, 1)");
+    synthetic::ValidateLensOptions(a.options.k1, "--k1", a.options.focal_prior_error, "--focal-prior-error");
     return RunSynth(a);
   });
 }

@@ -37,6 +37,7 @@ WorkspaceFingerprint FingerprintOf(const Reconstruction& tracks, const Reconstru
   WorkspaceFingerprint f;
   f.tracks = TracksFingerprint(tracks);
   f.init_options = WithoutThreadCounts({{"pairs", options.mapper.pairs},
+                                        {"calibration", options.mapper.calibration},
                                         {"triplets", options.mapper.triplets},
                                         {"global_init", options.mapper.global_init}});
   if (with_hessians)

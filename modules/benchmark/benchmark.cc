@@ -68,7 +68,7 @@ int CorruptMotions(double fraction, uint64_t seed, const std::vector<Triplet>& t
 // triplets' relative rotations, outlier_injection.h) and in the motions the adjustment
 // averages (CorruptMotions). The initialisation's triplet filtering is off: the adjustment
 // faces every corrupted motion.
-SweepPoint RunSweepPoint(const Reconstruction& tracks, double fraction, const BenchmarkOptions& options) {
+SweepPoint RunSweepPoint(const Reconstruction& input_tracks, double fraction, const BenchmarkOptions& options) {
   SweepPoint p;
   p.fraction = fraction;
   p.sigma_pointless = p.sigma_averaging = kNaN;
@@ -78,7 +78,8 @@ SweepPoint RunSweepPoint(const Reconstruction& tracks, double fraction, const Be
   mapper.global_init.max_triplet_rotation_error_deg = 0.0;
   try {
     Report scratch;
-    const GlobalMapperResult init = RunGlobalMapper(tracks, mapper, &scratch);
+    const GlobalMapperResult init = RunGlobalMapper(input_tracks, mapper, &scratch);
+    const Reconstruction tracks = TracksWithCameras(input_tracks, init.cameras);  // the mapper's cameras
     p.pairs_corrupted = init.init.stats.pairs_corrupted;
     PreparedHessians h = PrepareLocalHessians(tracks, init.init.poses, init.init.triplets, options.refinement);
     p.triplets_corrupted = CorruptMotions(fraction, mapper.global_init.outliers.seed, init.init.triplets, &h);

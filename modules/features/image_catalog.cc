@@ -79,10 +79,12 @@ void AssignPriorCameras(const fs::path& dir, ImageCatalog* catalog) {
     if (added) {
       Camera cam;
       cam.camera_id = it->second;
-      cam.model = CameraModel::kPinhole;
+      // COLMAP's default model without a calibration: SIMPLE_RADIAL, k = 0 to start.
+      cam.model = CameraModel::kSimpleRadial;
       cam.width = w;
       cam.height = h;
-      cam.params = {prior.focal_px, prior.focal_px, 0.5 * w, 0.5 * h};
+      cam.params = {prior.focal_px, 0.5 * w, 0.5 * h, 0.0};
+      cam.has_prior_focal_length = prior.source != FocalSource::kDefault;
       catalog->cameras[cam.camera_id] = cam;
       source_of[cam.camera_id] = prior.source;
     }
@@ -105,9 +107,10 @@ void AssignPriorCameras(const fs::path& dir, ImageCatalog* catalog) {
                   << (num_images.at(id) == 1 ? " image, " : " images, ") << cam.width << "x" << cam.height
                   << ") uses focal " << focal << " px "
                   << (source == FocalSource::kDefault
-                          ? std::string("= 1.2 * max(width, height), COLMAP's default, for lack of a usable EXIF focal")
+                          ? std::string("= 1.2 * max(width, height), COLMAP's default, for lack of a usable EXIF "
+                                        "focal (a start only: estimated from the view graph before averaging)")
                           : std::string("from ") + FocalSourceName(source))
-                  << " (prior, not refined; PINHOLE with the principal point at the centre, no distortion)";
+                  << " (SIMPLE_RADIAL with the principal point at the centre, k = 0)";
   }
   catalog->calibration_source = PriorSourceName(any_exif, any_default);
 }

@@ -9,11 +9,11 @@
 // Without an explicit calibration path, DIR/cameras.txt and then DIR/../cameras.txt are
 // tried (the layout of the datasets in shared/datasets).
 // Without any calibration file, the cameras are priors, as COLMAP makes them: every image is
-// decoded for its size and gets a PINHOLE camera with fx = fy = its EXIF focal
-// (exif_focal.h; 1.2 * max(width, height) without a usable one) and the principal point at
-// the image centre; images of the same size and focal share a camera, and each camera gets
-// one warning line. pgba neither refines intrinsics nor models distortion, so such a run is
-// only as good as the prior.
+// decoded for its size and gets a SIMPLE_RADIAL camera (k = 0) with f = its EXIF focal
+// (exif_focal.h; 1.2 * max(width, height) without a usable one, then
+// Camera::has_prior_focal_length is false and the global mapper estimates the focal from
+// the view graph) and the principal point at the image centre; images of the same size and
+// focal share a camera, and each camera gets one warning line.
 #pragma once
 
 #include <cstdint>

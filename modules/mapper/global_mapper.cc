@@ -1,6 +1,9 @@
 #include "mapper/global_mapper.h"
 
+#include <algorithm>
+#include <cstdio>
 #include <filesystem>
+#include <optional>
 
 #include "pgba/io/colmap_text.h"
 #include "pgba/io/workspace.h"
@@ -13,27 +16,94 @@ namespace pgba {
 
 void AddGlobalMapperSections(ConfigSchema* schema) {
   const GlobalMapperOptions defaults;
-  schema->Add("pairs", defaults.pairs).Add("triplets", defaults.triplets).Add("global_init", defaults.global_init);
+  schema->Add("pairs", defaults.pairs)
+      .Add("calibration", defaults.calibration)
+      .Add("triplets", defaults.triplets)
+      .Add("global_init", defaults.global_init);
 }
 
 void ReadGlobalMapperOptions(const Config& config, GlobalMapperOptions* options) {
   ReadSection(config, "pairs", &options->pairs);
+  ReadSection(config, "calibration", &options->calibration);
+  const std::string problem = options->calibration.Check();
+  if (!problem.empty()) ThrowInputError(config.origin(), 0, "calibration." + problem);
   ReadSection(config, "triplets", &options->triplets);
   ReadSection(config, "global_init", &options->global_init);
 }
 
-GlobalMapperResult RunGlobalMapper(const Reconstruction& tracks, const GlobalMapperOptions& options, Report* report) {
-  GlobalMapperResult result;
-  if (tracks.images.size() < 3) throw InputError("tracks: at least 3 images are needed, got " +
-                                                 std::to_string(tracks.images.size()));
-  {
-    StageTimer timer(report, "pairs");
-    PairStats stats;
-    result.pairs = EstimatePairs(tracks, options.pairs, &stats);
-    timer.Stop().update(ToJson(stats));
-    PGBA_LOG_INFO << "pairs: " << result.pairs.size() << " verified of " << stats.pairs_estimated << " estimated";
+namespace {
+
+// Step 1 (and 2b): the verified pairs of `tracks` with its cameras.
+std::vector<TwoViewGeometry> VerifyPairs(const Reconstruction& tracks, const PairOptions& options, Report* report,
+                                         const char* stage) {
+  StageTimer timer(report, stage);
+  PairStats stats;
+  std::vector<TwoViewGeometry> pairs = EstimatePairs(tracks, options, &stats);
+  timer.Stop().update(ToJson(stats));
+  PGBA_LOG_INFO << stage << ": " << pairs.size() << " verified of " << stats.pairs_estimated << " estimated";
+  return pairs;
+}
+
+// Step 2: focals of the cameras without a prior focal, from the verified pairs.
+void EstimateFocals(const Reconstruction& tracks, const ViewGraphCalibrationOptions& options, Report* report,
+                    GlobalMapperResult* result) {
+  const bool any = std::any_of(tracks.cameras.begin(), tracks.cameras.end(), [&](const auto& entry) {
+    return options.cameras == FocalEstimationCameras::kAll ||
+           (options.cameras == FocalEstimationCameras::kWeakPrior && !entry.second.has_prior_focal_length);
+  });
+  if (!any) return;
+  StageTimer timer(report, "focal_estimation");
+  result->calibration = CalibrateFocalsFromViewGraph(tracks, result->pairs, options, &result->cameras);
+  timer.Stop().update(result->calibration.ToJson());
+  for (const CameraFocalEstimate& c : result->calibration.cameras) {
+    char line[256];
+    std::snprintf(line, sizeof(line), "camera %u: focal %.1f px -> %.1f px (relative sd %.2g, %d pairs)", c.camera_id,
+                  c.prior_focal, c.estimated_focal, c.relative_sd, c.pairs_used);
+    if (c.applied) {
+      PGBA_LOG_INFO << "focal from the view graph: " << line;
+    } else {
+      PGBA_LOG_WARN << "focal from the view graph not used, the prior is kept: " << line << ": " << c.reason;
+    }
   }
+}
+
+}  // namespace
+
+Reconstruction TracksWithCameras(const Reconstruction& tracks, const std::map<uint32_t, Camera>& cameras) {
+  Reconstruction out = tracks;
+  out.cameras = cameras;
+  return out;
+}
+
+bool CamerasChanged(const Reconstruction& tracks, const std::map<uint32_t, Camera>& cameras) {
+  if (cameras.size() != tracks.cameras.size()) return true;
+  for (const auto& [id, cam] : tracks.cameras) {
+    const auto it = cameras.find(id);
+    if (it == cameras.end() || it->second.model != cam.model || it->second.params != cam.params) return true;
+  }
+  return false;
+}
+
+GlobalMapperResult RunGlobalMapper(const Reconstruction& input_tracks, const GlobalMapperOptions& options,
+                                   Report* report) {
+  GlobalMapperResult result;
+  if (input_tracks.images.size() < 3)
+    throw InputError("tracks: at least 3 images are needed, got " + std::to_string(input_tracks.images.size()));
+  result.cameras = input_tracks.cameras;
+  result.pairs = VerifyPairs(input_tracks, options.pairs, report, "pairs");
   if (result.pairs.empty()) throw InputError("tracks: no image pair could be verified (too few shared tracks?)");
+
+  EstimateFocals(input_tracks, options.calibration, report, &result);
+  // With new focals the pairs' relative poses (and inliers) are estimated again, and every
+  // later stage sees the new cameras.
+  std::optional<Reconstruction> recalibrated;
+  if (CamerasChanged(input_tracks, result.cameras)) {
+    recalibrated = TracksWithCameras(input_tracks, result.cameras);
+    result.pairs = VerifyPairs(*recalibrated, options.pairs, report, "pairs_recalibrated");
+    if (result.pairs.empty())
+      throw InputError("tracks: no image pair could be verified with the focals from the view graph");
+  }
+  const Reconstruction& tracks = recalibrated ? *recalibrated : input_tracks;
 
   std::vector<Triplet> triplets;
   {
@@ -64,7 +134,12 @@ void WriteGlobalMapperWorkspace(const std::string& workspace, const Reconstructi
   std::filesystem::create_directories(workspace);
   WritePairs(WorkspacePairsPath(workspace), tracks, result.pairs);
   WriteTriplets(WorkspaceTripletsPath(workspace), tracks, result.init.triplets);
-  WriteColmapText(TriangulateModel(tracks, result.init.poses), (std::filesystem::path(workspace) / "init").string());
+  const std::string init = (std::filesystem::path(workspace) / "init").string();
+  if (result.cameras.empty() || !CamerasChanged(tracks, result.cameras)) {
+    WriteColmapText(TriangulateModel(tracks, result.init.poses), init);
+  } else {
+    WriteColmapText(TriangulateModel(TracksWithCameras(tracks, result.cameras), result.init.poses), init);
+  }
 }
 
 }  // namespace pgba

@@ -65,8 +65,15 @@ void ReadRefinementOptions(const Config& config, RefinementOptions* options) {
 }
 
 FreeIntrinsics SelectRefinedIntrinsics(const Reconstruction& tracks, const RefinementOptions& options) {
-  if (!RefinesIntrinsics(options.intrinsics, options.calibration_is_prior)) return {};
-  return SelectFreeIntrinsics(tracks.cameras, options.intrinsics);
+  if (RefinesIntrinsics(options.intrinsics, options.calibration_is_prior))
+    return SelectFreeIntrinsics(tracks.cameras, options.intrinsics);
+  if (options.intrinsics.cameras != IntrinsicsCameras::kAuto) return {};
+  // Tracks from a file: "auto" still refines the cameras whose focal is COLMAP's
+  // 1.2 max(w, h) guess (Camera::has_prior_focal_length false, kept through cameras.txt).
+  std::map<uint32_t, Camera> guessed;
+  for (const auto& [id, camera] : tracks.cameras)
+    if (!camera.has_prior_focal_length) guessed[id] = camera;
+  return SelectFreeIntrinsics(guessed, options.intrinsics);
 }
 
 PreparedHessians PrepareLocalHessians(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,

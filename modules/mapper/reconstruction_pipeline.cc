@@ -125,7 +125,12 @@ ReconstructionOutput Reconstruct(const Reconstruction& tracks, const Reconstruct
   // the relative motions the averaging starts from (TripletOptions::refine_intrinsics).
   if (!SelectRefinedIntrinsics(tracks, options.refinement).empty()) mapper.triplets.refine_intrinsics = true;
   out.init = RunGlobalMapper(tracks, mapper, report);
-  Refine(tracks, options, report, record_convergence, /*hessians_given=*/false, &out);
+  if (CamerasChanged(tracks, out.init.cameras)) {  // focals from the view graph
+    Refine(TracksWithCameras(tracks, out.init.cameras), options, report, record_convergence, /*hessians_given=*/false,
+           &out);
+  } else {
+    Refine(tracks, options, report, record_convergence, /*hessians_given=*/false, &out);
+  }
   return out;
 }
 
@@ -146,6 +151,11 @@ ReconstructionOutput ReconstructFromWorkspace(const Reconstruction& tracks, cons
     out.init.init.triplets = ReadTriplets(WorkspaceTripletsPath(ws), tracks);
     const Reconstruction init = ReadColmapText((ws / "init").string(), /*points_optional=*/true);
     out.init.init.poses = MatchImagesByName(init, tracks).poses;
+    // The cameras the mapper ended with (focals from the view graph) are init/'s.
+    out.init.cameras = tracks.cameras;
+    bool same_ids = init.cameras.size() == tracks.cameras.size();
+    for (const auto& [id, cam] : tracks.cameras) same_ids = same_ids && init.cameras.count(id);
+    if (same_ids) out.init.cameras = init.cameras;
     out.init.init.success = true;
     for (const auto& [id, im] : tracks.images)
       if (!out.init.init.poses.count(id)) out.init.init.images_dropped.push_back(im.name);
@@ -167,7 +177,11 @@ ReconstructionOutput ReconstructFromWorkspace(const Reconstruction& tracks, cons
     stage["read_from"] = hessians.string();
     stage["ok"] = out.hessians.result.num_ok();
   }
-  Refine(tracks, options, report, /*record_convergence=*/false, given, &out);
+  if (CamerasChanged(tracks, out.init.cameras)) {
+    Refine(TracksWithCameras(tracks, out.init.cameras), options, report, /*record_convergence=*/false, given, &out);
+  } else {
+    Refine(tracks, options, report, /*record_convergence=*/false, given, &out);
+  }
   return out;
 }
 

@@ -42,19 +42,29 @@ bool CachedTracksValid(const fs::path& out, const nlohmann::json& key) {
   return !stored.is_discarded() && stored == key;
 }
 
+// The tracks come back through the workspace's cameras.txt, which does not hold
+// Camera::has_prior_focal_length: the catalog's cameras (same ids, same images) do.
+void WithCatalogCameras(const FeatureExtractionResult& features, Reconstruction* tracks) {
+  bool same_ids = tracks->cameras.size() == features.index.cameras.size();
+  for (const auto& [id, cam] : tracks->cameras) same_ids = same_ids && features.index.cameras.count(id);
+  if (same_ids) tracks->cameras = features.index.cameras;
+}
+
 Reconstruction MatchOrReuse(const FeatureExtractionResult& features, const fs::path& out,
                             const MatchingOptions& options, Report* report) {
   const nlohmann::json key = TracksKey(features, options);
   StageTimer timer(report, "match");
   if (CachedTracksValid(out, key)) {
     Reconstruction tracks = ReadColmapText((out / "tracks").string());
+    WithCatalogCameras(features, &tracks);
     nlohmann::json& stage = timer.Stop();
     stage["cached"] = true;
     stage["tracks"] = tracks.points3D.size();
     PGBA_LOG_INFO << "match: reusing " << (out / "tracks").string() << " (same features and options)";
     return tracks;
   }
-  const MatchingResult r = MatchImages(out.string(), options);
+  MatchingResult r = MatchImages(out.string(), options);
+  WithCatalogCameras(features, &r.tracks);
   WriteMatchingResult(out.string(), r);
   WriteStringAtomically((out / "tracks" / "key.json").string(), key.dump() + "\n");
   nlohmann::json& stage = timer.Stop();

@@ -7,9 +7,11 @@
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 
+#include "modules/synthetic/lens_remap.h"
 #include "modules/synthetic/procedural_texture.h"
 #include "modules/synthetic/quad_renderer.h"
 #include "modules/synthetic/synthetic_layout.h"
+#include "modules/synthetic/synthetic_lens.h"
 #include "pgba/io/colmap_text.h"
 #include "pgba/util/atomic_file.h"
 #include "pgba/util/error.h"
@@ -119,6 +121,7 @@ void ValidateRenderedSceneOptions(const RenderedSceneOptions& o) {
   if (!(o.focal_px >= 0.0 && std::isfinite(o.focal_px))) fail("--focal", "must be a finite number > 0 (0 = default)");
   if (o.supersampling < 1 || o.supersampling > 4) fail("--supersampling", "must be 1..4");
   if (!(o.image_noise >= 0.0 && o.image_noise < 64.0)) fail("--image-noise", "must be in [0, 64) grey levels");
+  synthetic::ValidateLensOptions(o.k1, "--k1", o.focal_prior_error, "--focal-prior-error");
 }
 
 RenderedScene RenderRoomScene(const RenderedSceneOptions& options) {
@@ -133,7 +136,9 @@ RenderedScene RenderRoomScene(const RenderedSceneOptions& options) {
   cam.height = options.height;
   const double f = options.focal_px > 0 ? options.focal_px : 0.8 * options.width;
   cam.params = {f, f, 0.5 * options.width, 0.5 * options.height};
+  cam = synthetic::WithRadialDistortion(cam, options.k1, "--k1");
   scene.gt.cameras[1] = cam;
+  scene.calibration = synthetic::FocalPrior(cam, options.focal_prior_error);
 
   // The ring: radius 2.4 m (the boxes' far corner is ~0.9 m from the centre, the walls 3.5 m).
   synthetic::Rng rng(options.seed);
@@ -156,8 +161,9 @@ RenderedScene RenderRoomScene(const RenderedSceneOptions& options) {
   tbb::parallel_for(size_t(0), specs.size(), [&](size_t i) { quads[i] = Texture(specs[i], Mix(options.seed, i)); });
 
   scene.images.resize(views.size());
+  const synthetic::LensRenderer lens(cam, options.supersampling);
   tbb::parallel_for(size_t(0), views.size(), [&](size_t k) {
-    cv::Mat img = synthetic::RenderQuads(quads, cam, views[k].pose, options.supersampling);
+    cv::Mat img = lens.Render(quads, views[k].pose);
     if (options.image_noise > 0) {
       cv::Mat noisy(img.size(), CV_32FC3);
       cv::RNG(Mix(options.seed ^ 0xA5A5A5A5ULL, k)).fill(noisy, cv::RNG::NORMAL, 0.0, options.image_noise);
@@ -189,7 +195,9 @@ void WriteRenderedScene(const RenderedScene& scene, const std::string& dir) {
       WriteStringAtomically(staged.path() / scene.gt.images.at(static_cast<uint32_t>(k + 1)).name, encoded[k]);
     staged.Commit();
   }
-  WriteColmapCamerasFile(scene.gt, (out / "cameras.txt").string());
+  Reconstruction calibration;
+  calibration.cameras[scene.calibration.camera_id] = scene.calibration;
+  WriteColmapCamerasFile(calibration, (out / "cameras.txt").string());
   WriteColmapText(scene.gt, (out / "gt").string());
   std::string loop;
   for (const std::string& name : scene.loop) loop += name + "\n";

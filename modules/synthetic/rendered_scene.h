@@ -37,15 +37,24 @@ struct RenderedSceneOptions {
   // Standard deviation of the Gaussian noise added to each 8-bit channel (sensor noise;
   // also keeps SIFT from locking onto perfectly flat regions).
   double image_noise = 1.5;
+  // Radial distortion of the true lens (synthetic_lens.h; 0 = PINHOLE): the images are
+  // rendered through it (lens_remap.h) and gt/cameras.txt holds SIMPLE_RADIAL with this k1.
+  double k1 = 0.0;
+  // Relative error of the focal of DIR/cameras.txt, the calibration handed to the pipeline
+  // (its distortion is 0); gt/cameras.txt holds the truth. In [-0.5, 1].
+  double focal_prior_error = 0.0;
 };
 
 // InputError naming the option for unusable values.
 void ValidateRenderedSceneOptions(const RenderedSceneOptions& options);
 
 struct RenderedScene {
-  // Camera 1 (PINHOLE, principal point at the image centre) and images 1..n in ring order
-  // with their true poses; no points (the truth is the poses).
+  // Camera 1 (PINHOLE, or SIMPLE_RADIAL with k1; principal point at the image centre) and
+  // images 1..n in ring order with their true poses; no points (the truth is the poses).
   Reconstruction gt;
+  // The calibration written to DIR/cameras.txt: gt's camera, or its focal prior
+  // (focal_prior_error, no distortion).
+  Camera calibration;
   std::vector<cv::Mat> images;    // CV_8UC3 (BGR); images[k] is gt image k + 1
   std::vector<std::string> loop;  // image names in ring order; the last is adjacent to the first
   double extent = 0.0;            // diagonal of the bounding box of the camera centres, metres
@@ -56,7 +65,7 @@ RenderedScene RenderRoomScene(const RenderedSceneOptions& options);
 
 // Writes the layout of shared/datasets:
 //   DIR/images/<name>.png   the photos (the folder is replaced as a whole)
-//   DIR/cameras.txt         the calibration (COLMAP cameras.txt, PINHOLE)
+//   DIR/cameras.txt         the calibration (COLMAP cameras.txt): scene.calibration
 //   DIR/gt/                 COLMAP text model: cameras.txt, images.txt, empty points3D.txt
 //   DIR/loop.txt            image names in ring order
 // Every file is written atomically.

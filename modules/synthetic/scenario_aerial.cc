@@ -11,6 +11,7 @@
 #include <cstdio>
 
 #include "modules/synthetic/synthetic_layout.h"
+#include "modules/synthetic/synthetic_lens.h"
 #include "pgba/geometry/rotation.h"
 
 namespace pgba::synthetic {
@@ -66,6 +67,7 @@ SceneLayout MakeAerialLayout(const SyntheticOptions& options, Rng& rng) {
   layout.camera.width = kWidth;
   layout.camera.height = kHeight;
   layout.camera.params = {kFocal, kWidth / 2.0, kHeight / 2.0};
+  layout.camera = WithRadialDistortion(layout.camera, options.k1, "k1");  // before any use of the camera
   const double gsd = kAltitude / kFocal;
   const double base = (1.0 - kAlongOverlap) * kHeight * gsd;     // 80 m
   const double spacing = (1.0 - kAcrossOverlap) * kWidth * gsd;  // 240 m

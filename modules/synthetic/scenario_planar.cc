@@ -9,6 +9,7 @@
 #include <cstdio>
 
 #include "modules/synthetic/synthetic_layout.h"
+#include "modules/synthetic/synthetic_lens.h"
 #include "pgba/geometry/rotation.h"
 
 namespace pgba::synthetic {
@@ -24,6 +25,7 @@ SceneLayout MakePlanarLayout(const SyntheticOptions& options, Rng& rng) {
   layout.camera.width = 739;
   layout.camera.height = 458;
   layout.camera.params = {726.3, 726.6, 354.6, 186.5};
+  layout.camera = WithRadialDistortion(layout.camera, options.k1, "k1");  // before any use of the camera
 
   std::normal_distribution<double> gauss(0.0, 1.0);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);

@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "modules/synthetic/synthetic_layout.h"
+#include "modules/synthetic/synthetic_lens.h"
 #include "pgba/geometry/rotation.h"
 
 namespace pgba::synthetic {
@@ -84,6 +85,7 @@ SceneLayout MakeOrbitLayout(const SyntheticOptions& options, Rng& rng) {
   layout.camera.width = 1920;
   layout.camera.height = 1080;
   layout.camera.params = {1163.0, 1163.0, 960.0, 540.0};
+  layout.camera = WithRadialDistortion(layout.camera, options.k1, "k1");  // before any use of the camera
   const RingSpec ring{"orbit_%03d.jpg", 9.0, 0.3, 3.5, 0.8, 0.2, 0.25, {0.0, 0.0, 2.3}, 0.15, 1.0};
   layout.views = RingViews(ring, n, rng);
   layout.candidate_groups = AllViewsGroup(layout.views.size());
@@ -119,6 +121,7 @@ SceneLayout MakeLongFocalLayout(const SyntheticOptions& options, Rng& rng) {
   layout.camera.width = 5616;
   layout.camera.height = 3744;
   layout.camera.params = {156000.0, 2808.0, 1872.0};
+  layout.camera = WithRadialDistortion(layout.camera, options.k1, "k1");  // before any use of the camera
   const RingSpec ring{"longfocal_%03d.jpg", 90.0, 1.0, 1.6, 0.15, 0.1, 0.2, {0.0, 0.0, 1.5}, 0.03, 1.0};
   layout.views = RingViews(ring, n, rng);
   layout.candidate_groups = AllViewsGroup(layout.views.size());

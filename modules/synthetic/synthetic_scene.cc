@@ -8,6 +8,7 @@
 #include <string>
 
 #include "modules/synthetic/synthetic_layout.h"
+#include "modules/synthetic/synthetic_lens.h"
 #include "pgba/util/error.h"
 #include "pgba/util/logging.h"
 
@@ -114,9 +115,10 @@ void SetPointErrors(Reconstruction* rec) {
   }
 }
 
-// Poses and points unknown: the same cameras, observations and tracks.
-Reconstruction MakeInput(const Reconstruction& gt) {
+// Poses and points unknown: the same observations and tracks, the prior cameras.
+Reconstruction MakeInput(const Reconstruction& gt, double focal_prior_error) {
   Reconstruction input = gt;
+  for (auto& [id, cam] : input.cameras) cam = synthetic::FocalPrior(cam, focal_prior_error);
   for (auto& [id, im] : input.images) im.pose = Pose();
   for (auto& [id, p] : input.points3D) {
     p.xyz.setZero();
@@ -171,6 +173,7 @@ void ValidateSyntheticOptions(const SyntheticOptions& o) {
     ThrowInputError(kWhat, 0,
                     "aerial: " + std::to_string(o.num_images) + " images cannot fill " + std::to_string(o.num_strips) +
                         " strips of at least 2 images");
+  synthetic::ValidateLensOptions(o.k1, "k1", o.focal_prior_error, "focal_prior_error");
   bool known = false;
   for (const auto& e : kScenarios) known |= e.scenario == o.scenario;
   if (!known) ThrowInputError(kWhat, 0, "unknown scenario");
@@ -200,7 +203,7 @@ SyntheticScene GenerateSyntheticScene(const SyntheticOptions& options) {
   scene.gt = AssembleModel(layout, tracks);
   scene.outliers = InjectOutliers(options.outlier_fraction, rng, &scene.gt);
   SetPointErrors(&scene.gt);
-  scene.input = MakeInput(scene.gt);
+  scene.input = MakeInput(scene.gt, options.focal_prior_error);
   scene.extent = CentreExtent(scene.gt);
   size_t unobserved = 0;
   for (const auto& [id, im] : scene.gt.images) unobserved += im.points2D.empty();

@@ -62,16 +62,24 @@ struct SyntheticOptions {
   // aerial only: number of strips; 0 = 6, or for blocks of more than 150 images about as many
   // strips as make the block square on the ground.
   int num_strips = 0;
+  // Radial distortion of the true camera (synthetic_lens.h): 0 = the scenario's pinhole;
+  // otherwise gt/ holds SIMPLE_RADIAL (OPENCV for two focals) with this k1 and the
+  // observations are projected through it. |k1| <= 1 and invertible over the image.
+  double k1 = 0.0;
+  // Relative error of the calibration in input/ (the pipeline's prior): its focal is the
+  // true one times (1 + focal_prior_error) and its distortion 0; gt/ keeps the truth. With
+  // k1 = 0 and no error, input/ and gt/ share the camera. In [-0.5, 1].
+  double focal_prior_error = 0.0;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(SyntheticOptions, scenario, seed, noise_px, outlier_fraction,
-                                                num_images, num_points, num_strips)
+                                                num_images, num_points, num_strips, k1, focal_prior_error)
 
 // Throws InputError naming the option if `options` is unusable.
 void ValidateSyntheticOptions(const SyntheticOptions& options);
 
 struct SyntheticScene {
-  Reconstruction gt;
-  Reconstruction input;
+  Reconstruction gt;     // the true camera (with its distortion)
+  Reconstruction input;  // the prior camera (focal_prior_error, no distortion)
   std::vector<LoopCorrespondence> loop_pairs;
   // Observations of gt/input replaced by outliers (image_id, point2D_idx), sorted.
   std::vector<TrackElement> outliers;

@@ -12,6 +12,15 @@ constexpr double kDegToRad = M_PI / 180.0;
 // Projections closer than this to the image border are not detected (a descriptor needs
 // support around the keypoint; also keeps noisy pixels essentially inside the image).
 constexpr double kBorderPx = 1.0;
+// A distortion polynomial turns round beyond some radius: a point far outside the field of
+// view (barrel k1 < 0: beyond 1 / sqrt(3 |k1|)) would land back inside the image. It is
+// seen only if its pixel undistorts to its own ray.
+bool ProjectsUnfolded(const Camera& cam, const Eigen::Vector3d& x_cam, const Eigen::Vector2d& pixel) {
+  if (cam.model == CameraModel::kPinhole || cam.model == CameraModel::kSimplePinhole) return true;
+  Eigen::Vector2d u;
+  return cam.UndistortPixel(pixel, &u) && (u - x_cam.head<2>() / x_cam.z()).norm() < 1e-6 * (1.0 + u.norm());
+}
+
 }  // namespace
 
 Eigen::Matrix3d LookAtRotation(const Eigen::Vector3d& C, const Eigen::Vector3d& target, const Eigen::Vector3d& up) {
@@ -35,6 +44,7 @@ std::vector<Sighting> VisibleSightings(const SceneLayout& layout, const LayoutPo
     const Eigen::Vector3d x_cam = pose.ToCamera(point.X);
     if (x_cam.z() <= 1e-9) continue;
     const Eigen::Vector2d pixel = cam.Project(x_cam);
+    if (!ProjectsUnfolded(cam, x_cam, pixel)) continue;
     if (pixel.x() < kBorderPx || pixel.y() < kBorderPx || pixel.x() > cam.width - kBorderPx ||
         pixel.y() > cam.height - kBorderPx)
       continue;

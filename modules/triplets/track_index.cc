@@ -56,6 +56,23 @@ Eigen::Vector3d TrackIndex::Bearing(uint32_t image_id, uint32_t point2D_idx) con
   return CameraOf(image_id).PixelToBearing(Pixel(image_id, point2D_idx));
 }
 
+std::vector<std::pair<uint32_t, uint32_t>> TrackIndex::SharedObservations(uint32_t image_id1,
+                                                                          uint32_t image_id2) const {
+  const std::vector<TrackObservation>& l1 = Of(image_id1);
+  const std::vector<TrackObservation>& l2 = Of(image_id2);
+  std::vector<std::pair<uint32_t, uint32_t>> shared;
+  for (size_t i = 0, j = 0; i < l1.size() && j < l2.size();) {
+    if (l1[i].track_id < l2[j].track_id) {
+      ++i;
+    } else if (l2[j].track_id < l1[i].track_id) {
+      ++j;
+    } else {
+      shared.emplace_back(l1[i++].point2D_idx, l2[j++].point2D_idx);
+    }
+  }
+  return shared;
+}
+
 std::map<uint64_t, int> TrackIndex::CountSharedTracks() const {
   std::map<uint64_t, int> counts;
   std::vector<uint32_t> ids;

@@ -8,6 +8,7 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <utility>
 #include <vector>
 
 #include "pgba/scene/reconstruction.h"
@@ -33,6 +34,10 @@ class TrackIndex {
   Eigen::Vector3d Bearing(uint32_t image_id, uint32_t point2D_idx) const;
   const Eigen::Vector2d& Pixel(uint32_t image_id, uint32_t point2D_idx) const;
   const Camera& CameraOf(uint32_t image_id) const;
+
+  // The observations of the tracks both images see, as (point2D_idx in image 1, in image 2),
+  // in track order (a merge of the two sorted lists).
+  std::vector<std::pair<uint32_t, uint32_t>> SharedObservations(uint32_t image_id1, uint32_t image_id2) const;
 
   // Number of tracks seen by both images of each pair that shares at least one track,
   // keyed by PairKey(id1 < id2). Walks every track once (cost ~ sum of squared lengths).

@@ -56,20 +56,10 @@ std::vector<Candidate> SelectCandidates(const std::map<uint64_t, int>& counts, c
 }
 
 PairOutcome EstimatePair(const TrackIndex& index, const Candidate& c, const PairOptions& o, TwoViewGeometry* g) {
-  const auto& l1 = index.Of(c.id1);
-  const auto& l2 = index.Of(c.id2);
   std::vector<Eigen::Vector3d> b1, b2;
-  for (size_t i = 0, j = 0; i < l1.size() && j < l2.size();) {
-    if (l1[i].track_id < l2[j].track_id) {
-      ++i;
-    } else if (l2[j].track_id < l1[i].track_id) {
-      ++j;
-    } else {
-      b1.push_back(index.Bearing(c.id1, l1[i].point2D_idx));
-      b2.push_back(index.Bearing(c.id2, l2[j].point2D_idx));
-      ++i;
-      ++j;
-    }
+  for (const auto& [k1, k2] : index.SharedObservations(c.id1, c.id2)) {
+    b1.push_back(index.Bearing(c.id1, k1));
+    b2.push_back(index.Bearing(c.id2, k2));
   }
   g->image_id1 = c.id1;
   g->image_id2 = c.id2;

@@ -60,6 +60,34 @@ TEST(SynthCli, WritesGroundTruthInputAndLoopPairs) {
   fs::remove_all(out);
 }
 
+TEST(SynthCli, LensDistortionAndAWrongFocalPrior) {
+  const fs::path out = TempDir("lens");
+  const CliResult r = RunPgba("synth --scenario orbit --images 12 --k1 -0.08 --focal-prior-error 0.15 --out " +
+                              out.string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  const Reconstruction gt = ReadColmapText((out / "gt").string());
+  const Reconstruction input = ReadColmapText((out / "input").string());
+  const Camera& truth = gt.cameras.at(1);
+  const Camera& prior = input.cameras.at(1);
+  ASSERT_EQ(truth.model, CameraModel::kSimpleRadial);
+  EXPECT_EQ(truth.params, (std::vector<double>{1163.0, 960.0, 540.0, -0.08}));
+  ASSERT_EQ(prior.model, CameraModel::kSimpleRadial);
+  EXPECT_DOUBLE_EQ(prior.params[0], 1.15 * 1163.0);
+  EXPECT_EQ(prior.params[3], 0.0);
+  // The observations written are the truth's projections (noise 0.5 px).
+  double sum2 = 0.0;
+  size_t n = 0;
+  for (const auto& [id, im] : gt.images)
+    for (const Point2D& obs : im.points2D) {
+      const Eigen::Vector2d px = truth.Project(im.pose.ToCamera(gt.points3D.at(obs.point3D_id).xyz));
+      sum2 += (px - obs.xy).squaredNorm();
+      ++n;
+    }
+  ASSERT_GT(n, 100u);
+  EXPECT_NEAR(std::sqrt(sum2 / (2.0 * n)), 0.5, 0.05);
+  fs::remove_all(out);
+}
+
 TEST(SynthCli, BadArgumentsExitWithCode2) {
   const fs::path out = TempDir("bad");
   // {arguments, what the one-line error must name}
@@ -72,7 +100,11 @@ TEST(SynthCli, BadArgumentsExitWithCode2) {
                                                                   {"--scenario orbit --noise abc", "--noise"},
                                                                   {"--scenario aerial --strips 0", "--strips"},
                                                                   {"--scenario orbit --seed -3", "--seed"},
-                                                                  {"--scenario orbit --noise nan", "--noise"}};
+                                                                  {"--scenario orbit --noise nan", "--noise"},
+                                                                  {"--scenario orbit --k1 5", "--k1"},
+                                                                  {"--scenario orbit --k1 -0.9", "not invertible"},
+                                                                  {"--scenario orbit --focal-prior-error 2", "--focal-prior-error"},
+                                                                  {"--scenario orbit --focal-prior-error -0.7", "--focal-prior-error"}};
   for (const auto& [args, names] : cases) {
     const CliResult r = RunPgba("synth " + args + " --out " + out.string());
     EXPECT_EQ(r.code, 2) << args << ": " << r.output;
@@ -118,6 +150,8 @@ TEST(SynthCli, RenderBadArgumentsExitWithCode2) {
                                                                   {"--render --width 8", "--width"},
                                                                   {"--render --focal -5", "--focal"},
                                                                   {"--render --image-noise -1", "--image-noise"},
+                                                                  {"--render --k1 -0.95", "--k1"},
+                                                                  {"--render --focal-prior-error nan", "--focal-prior-error"},
                                                                   {"--scenario orbit --width 320", "--width"},
                                                                   {"--seed 2", "--scenario"}};
   for (const auto& [args, names] : cases) {

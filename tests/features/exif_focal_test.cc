@@ -183,13 +183,14 @@ TEST_F(ExifFocalTest, CatalogWithoutCalibrationUsesExif) {
   EXPECT_EQ(catalog.cameras_path, "");
   ASSERT_EQ(catalog.cameras.size(), 1u);
   const Camera& cam = catalog.cameras.at(1);
-  EXPECT_EQ(cam.model, CameraModel::kPinhole);
+  EXPECT_EQ(cam.model, CameraModel::kSimpleRadial);  // COLMAP's default without a calibration
   EXPECT_EQ(cam.width, 2832);
   EXPECT_EQ(cam.height, 2128);
-  EXPECT_EQ(cam.params[0], cam.params[1]);
-  EXPECT_EQ(cam.params[2], 1416.0);
-  EXPECT_EQ(cam.params[3], 1064.0);
+  EXPECT_EQ(cam.params[1], 1416.0);
+  EXPECT_EQ(cam.params[2], 1064.0);
+  EXPECT_EQ(cam.params[3], 0.0);  // k
   EXPECT_EQ(cam.params[0], ExifFocalPrior(images[0].string(), 2832, 2128).focal_px);
+  EXPECT_TRUE(cam.has_prior_focal_length);  // EXIF is a prior: not estimated by default
   EXPECT_EQ(catalog.camera_of.size(), 3u);
   EXPECT_EQ(cam.Validate(), "");
 
@@ -219,6 +220,11 @@ TEST_F(ExifFocalTest, CatalogGroupsPriorsBySizeAndFocal) {
   EXPECT_DOUBLE_EQ(catalog.cameras.at(2).params[0], 480.0);
   EXPECT_NEAR(catalog.cameras.at(3).params[0], 35.0 / 43.27 * 400.0, 1e-9);
   EXPECT_EQ(catalog.calibration_source, "exif+default-prior");
+  // Only the 1.2 * max(w, h) guesses lack a prior focal (the view graph estimates theirs).
+  EXPECT_FALSE(catalog.cameras.at(1).has_prior_focal_length);
+  EXPECT_FALSE(catalog.cameras.at(2).has_prior_focal_length);
+  EXPECT_TRUE(catalog.cameras.at(3).has_prior_focal_length);
+  for (const auto& [id, cam] : catalog.cameras) EXPECT_EQ(cam.model, CameraModel::kSimpleRadial) << id;
 }
 
 TEST_F(ExifFocalTest, FatalInputsWithoutCalibration) {

@@ -206,6 +206,43 @@ TEST(ColmapText, ExactRoundTrip) {
   ExpectIdentical(rec, ReadColmapText(b.string()));
 }
 
+// Camera::has_prior_focal_length survives cameras.txt in a comment COLMAP ignores; a marker
+// naming a camera the file does not have is an error naming the file and line.
+TEST(ColmapText, NoPriorFocalLengthRoundTrip) {
+  Reconstruction rec;
+  for (uint32_t id : {1u, 2u, 7u}) {
+    Camera c;
+    c.camera_id = id;
+    c.model = CameraModel::kSimpleRadial;
+    c.width = 640;
+    c.height = 480;
+    c.params = {768.0, 320.0, 240.0, 0.0};
+    c.has_prior_focal_length = id == 2;
+    rec.cameras[id] = c;
+  }
+  TempDir tmp("no_prior_focal");
+  const fs::path path = tmp.path() / "cameras.txt";
+  WriteColmapCamerasFile(rec, path.string());
+  EXPECT_NE(ReadBytes(path).find("# pgba: no prior focal length: 1 7\n"), std::string::npos) << ReadBytes(path);
+  const std::map<uint32_t, Camera> back = ReadColmapCameras(path.string());
+  EXPECT_FALSE(back.at(1).has_prior_focal_length);
+  EXPECT_TRUE(back.at(2).has_prior_focal_length);
+  EXPECT_FALSE(back.at(7).has_prior_focal_length);
+  // Every camera with a prior: no marker at all (the file is COLMAP's as before).
+  for (auto& [id, c] : rec.cameras) c.has_prior_focal_length = true;
+  WriteColmapCamerasFile(rec, path.string());
+  EXPECT_EQ(ReadBytes(path).find("pgba:"), std::string::npos);
+  for (const char* bad : {"3", "x", "99999999999", "-1"}) {
+    WriteBytes(path, std::string("1 SIMPLE_RADIAL 640 480 768 320 240 0\n# pgba: no prior focal length: 1 ") + bad + "\n");
+    try {
+      ReadColmapCameras(path.string());
+      ADD_FAILURE() << bad;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(path.string() + ":2"), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(ColmapText, ReadsSharedFountainGroundTruth) {
   const fs::path gt = fs::path(PGBA_SHARED_DIR) / "datasets" / "fountain_p11" / "gt";
   ASSERT_TRUE(fs::is_directory(gt)) << gt;

@@ -8,10 +8,12 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "modules/synthetic/lens_remap.h"
 #include "modules/synthetic/procedural_texture.h"
 #include "modules/synthetic/quad_renderer.h"
 #include "modules/synthetic/rendered_scene.h"
 #include "modules/synthetic/synthetic_layout.h"
+#include "modules/synthetic/synthetic_lens.h"
 #include "pgba/io/colmap_text.h"
 #include "pgba/util/error.h"
 
@@ -64,18 +66,30 @@ TEST(QuadRenderer, DrawsWorldPointsWhereTheCameraProjectsThem) {
         q.texture.at<cv::Vec3b>(s.y + dy, s.x + dx) =
             cv::Vec3b::all(static_cast<uchar>(std::lround(250.0 * std::exp(-(dx * dx + dy * dy) / 8.0))));
 
-  for (int ss : {1, 2, 3}) {
-    const cv::Mat img = synthetic::RenderQuads({q}, cam, pose, ss);
+  // Every spot's centroid in `img` is where `camera` projects the spot's texel centre.
+  double max_shift = 0.0;  // of the lens camera's projections from the pinhole's
+  const auto check_spots = [&](const cv::Mat& img, const Camera& camera, const std::string& what) {
     ASSERT_EQ(img.cols, 320);
     ASSERT_EQ(img.rows, 240);
     for (const cv::Point& s : spots) {
       const Eigen::Vector3d X = q.origin + (s.x + 0.5) / 300.0 * q.u_axis + (s.y + 0.5) / 250.0 * q.v_axis;
-      const Eigen::Vector2d expected = cam.Project(pose.ToCamera(X));
+      const Eigen::Vector2d expected = camera.Project(pose.ToCamera(X));
       const Eigen::Vector2d got = Centroid(img, expected, 5);
-      EXPECT_LT((got - expected).norm(), 0.05) << "supersampling " << ss << " spot " << s << ": got "
-                                                << got.transpose() << " expected " << expected.transpose();
+      EXPECT_LT((got - expected).norm(), 0.05) << what << " spot " << s << ": got " << got.transpose()
+                                                << " expected " << expected.transpose();
+      max_shift = std::max(max_shift, (cam.Project(pose.ToCamera(X)) - expected).norm());
     }
-  }
+  };
+  for (int ss : {1, 2, 3})
+    check_spots(synthetic::RenderQuads({q}, cam, pose, ss), cam, "supersampling " + std::to_string(ss));
+  // Through a strong pincushion lens (k1 = 0.8, so that the spots near the centre move by
+  // pixels; OPENCV for the two focals): the spots land where the distorted camera projects
+  // them, 0.9 px (20x the tolerance) from where the pinhole would.
+  const Camera lens_cam = synthetic::WithRadialDistortion(cam, 0.8, "k1");
+  for (int ss : {1, 2})
+    check_spots(synthetic::LensRenderer(lens_cam, ss).Render({q}, pose), lens_cam,
+                "lens, supersampling " + std::to_string(ss));
+  EXPECT_GT(max_shift, 0.5) << "the lens hardly distorts the spots: the test would not see a pinhole render";
 }
 
 TEST(QuadRenderer, NearestSurfaceWinsWhateverTheOrderAndBehindIsInvisible) {

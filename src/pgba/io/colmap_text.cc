@@ -1,9 +1,11 @@
 #include "pgba/io/colmap_text.h"
 
+#include <algorithm>
 #include <cinttypes>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <system_error>
 
 #include "pgba/util/atomic_file.h"
@@ -118,6 +120,32 @@ void ReadPoints(const std::string& path, Reconstruction* rec, std::map<uint32_t,
 
 }  // namespace
 
+namespace {
+constexpr const char* kNoPriorFocalMarker = "# pgba: no prior focal length:";
+
+// The ids of the marker comment (see the header), each checked against `cams`.
+void ReadNoPriorFocalMarker(const std::string& path, std::map<uint32_t, Camera>* cams) {
+  std::ifstream in(path);
+  std::string line;
+  const std::string marker = kNoPriorFocalMarker;
+  for (int number = 1; std::getline(in, line); ++number) {
+    if (line.compare(0, marker.size(), marker) != 0) continue;
+    std::istringstream ids(line.substr(marker.size()));
+    std::string token;
+    while (ids >> token) {
+      const bool digits = !token.empty() && token.size() <= 10 &&
+                          std::all_of(token.begin(), token.end(), [](char ch) { return ch >= '0' && ch <= '9'; });
+      const unsigned long long id = digits ? std::stoull(token) : 0ull;
+      const auto it = digits && id <= 0xffffffffull ? cams->find(static_cast<uint32_t>(id)) : cams->end();
+      if (it == cams->end())
+        ThrowInputError(path, number, "'" + TextReader::Printable(token) + "' of \"" + marker +
+                                          "\" is not a CAMERA_ID of this file");
+      it->second.has_prior_focal_length = false;
+    }
+  }
+}
+}  // namespace
+
 std::map<uint32_t, Camera> ReadColmapCameras(const std::string& path) {
   std::map<uint32_t, Camera> cams;
   TextReader r(path);
@@ -139,6 +167,7 @@ std::map<uint32_t, Camera> ReadColmapCameras(const std::string& path) {
     if (!problem.empty()) r.Fail(problem);
     cams[c.camera_id] = std::move(c);
   }
+  ReadNoPriorFocalMarker(path, &cams);
   return cams;
 }
 
@@ -183,6 +212,10 @@ void WriteColmapCamerasFile(const Reconstruction& rec, const std::string& path) 
     out << "# Camera list with one line of data per camera:\n"
         << "#   CAMERA_ID, MODEL, WIDTH, HEIGHT, PARAMS[]\n"
         << "# Number of cameras: " << rec.cameras.size() << "\n";
+    std::string no_prior;
+    for (const auto& [id, c] : rec.cameras)
+      if (!c.has_prior_focal_length) no_prior += " " + std::to_string(id);
+    if (!no_prior.empty()) out << kNoPriorFocalMarker << no_prior << "\n";
     for (const auto& [id, c] : rec.cameras) {
       out << id << ' ' << CameraModelName(c.model) << ' ' << c.width << ' ' << c.height;
       for (double p : c.params) out << ' ' << Num(p);

@@ -14,6 +14,11 @@
 namespace pgba {
 
 // cameras.txt alone (a calibration file).
+//
+// Camera::has_prior_focal_length, which COLMAP's text format has no field for, travels in a
+// comment COLMAP ignores, written only when some camera lacks a prior focal:
+//   # pgba: no prior focal length: CAMERA_ID...
+// (every listed id must be a camera of the file); cameras not listed have a prior.
 std::map<uint32_t, Camera> ReadColmapCameras(const std::string& path);
 
 // Reads DIR/{cameras,images,points3D}.txt. A missing points3D.txt is an error unless

@@ -88,6 +88,21 @@ Table BuildTable() {
   t["pairs.min_inlier_ratio"] = kFraction;
   t["pairs.min_triangulation_angle_deg"] = kMinAngleDeg;
   t["pairs.seed"] = Unbounded();
+  // calibration (calibration/view_graph_calibration.h, fundamental_matrix.h)
+  t["calibration.fundamental.threshold_px"] = kPositive;
+  t["calibration.fundamental.confidence"] = kProbability;
+  t["calibration.fundamental.max_iterations"] = kAtLeastOne;
+  t["calibration.fundamental.min_inliers"] = AtLeast(8);  // the 8-point refinement's minimum
+  t["calibration.fundamental.refine_iterations"] = kNonNegative;  // 0 = the RANSAC model as is
+  t["calibration.fundamental.huber_px"] = kPositive;
+  t["calibration.loss_scale"] = kPositive;
+  t["calibration.min_focal_ratio"] = Open(0, 1);
+  t["calibration.max_focal_ratio"] = Above(1);
+  t["calibration.min_pairs"] = AtLeast(2);  // a standard deviation needs two residuals
+  t["calibration.max_relative_sd"] = kPositive;
+  t["calibration.max_sweeps"] = kAtLeastOne;
+  t["calibration.max_pairs_per_camera"] = kNonNegative;  // 0 = all
+  t["calibration.max_abs_k1"] = HalfOpen(0, 1);
   // triplets (triplets/triplet_options.h, absolute_pose.h)
   t["triplets.max_triplets_per_image"] = kAtLeastOne;
   t["triplets.max_selection_rounds"] = kAtLeastOne;

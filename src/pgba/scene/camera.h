@@ -31,6 +31,12 @@ struct Camera {
   int width = 0;
   int height = 0;
   std::vector<double> params;
+  // COLMAP's flag of the same name: true when the focal comes from a calibration file or
+  // EXIF, false when it is only the 1.2 * max(width, height) guess (image_catalog.h). The
+  // global mapper estimates the focal of the cameras without one from the view graph
+  // (modules/calibration). cameras.txt carries it in a comment COLMAP ignores
+  // (colmap_text.h); a camera of a calibration file without that comment has a prior.
+  bool has_prior_focal_length = true;
 
   // Pixels of a point in the camera frame (z > 0 expected; no check here).
   Eigen::Vector2d Project(const Eigen::Vector3d& x_cam) const;
