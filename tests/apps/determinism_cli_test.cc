@@ -117,6 +117,14 @@ TEST_F(DeterminismCli, RunOnPhotosIsByteIdenticalForOneAndTwoThreads) {
   r = pgba::test::RunPgbaWithin(120, "-v 0 run" + images + " --out " + one.string());
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_EQ(r.output, "error: " + key.string() + ": is not a regular file (FIFO, socket or device), refusing to read it\n");
+
+  // A FIFO as the log: refused before any work (opening it for writing blocked).
+  const fs::path log = one / "log.txt";
+  ASSERT_TRUE(fs::remove(log));
+  ASSERT_EQ(::mkfifo(log.c_str(), 0600), 0);
+  r = pgba::test::RunPgbaWithin(120, "-v 0 run" + images + " --out " + one.string());
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_EQ(r.output, "error: " + log.string() + ": is not a regular file (device, FIFO or socket), refusing to replace it\n");
 }
 
 TEST_F(DeterminismCli, ThreadsOptionIsValidated) {
