@@ -314,6 +314,18 @@ TEST_F(HostileInputCli, NumericFlagsAreHeldToTheirConfigRange) {
   EXPECT_FALSE(fs::exists(dir_ / "flags_ws"));
 }
 
+// Crash found by libFuzzer (fuzz_gcp_file): a line of whitespace the tokenizer splits on but
+// the blank-line test did not know ("\r\r") reached the GCP parser with no token, which
+// indexed it: SIGSEGV in reconstruct --gcp. Such a line is blank now.
+TEST_F(HostileInputCli, WhitespaceOnlyLineInGcpFile) {
+  const fs::path gcp = dir_ / "gcp.txt";
+  std::ofstream(gcp, std::ios::binary) << "\r\r\n\v\f\nGCP g 1 2 3 oops\n";
+  ExpectOneLineError(Run("reconstruct --tracks " + (dir_ / "scene" / "input").string() + " --out " +
+                         (dir_ / "gcp_out").string() + " --gcp " + gcp.string()),
+                     gcp.string() + ":3", "sigma");
+  EXPECT_FALSE(fs::exists(dir_ / "gcp_out" / "sparse"));
+}
+
 // Unclear errors: an unknown subcommand is named, with the known ones.
 TEST_F(HostileInputCli, UnknownSubcommandIsNamed) {
   const pgba::test::CliResult r = Run("reconstrct --tracks x --out y");
