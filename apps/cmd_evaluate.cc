@@ -36,6 +36,7 @@ void RegisterEvaluate(CLI::App& app) {
   AddCommand(app, sub, [args] {
     EvaluationOptions options;
     options.sigma.inlier_px = args->inlier_px;
+    if (!args->json.empty()) CheckOutputFile(args->json);  // a bad --json found now, not after the evaluation
 
     const Reconstruction model = ReadColmapText(args->model, /*points_optional=*/true);
     const Reconstruction obs = ReadColmapText(args->obs);

@@ -20,11 +20,14 @@ void RegisterFeatures(CLI::App& app) {
   sub->add_option("--images", args->images, "folder of images")->required();
   AddCalibrationOptions(sub, &args->calib);
   sub->add_option("--out", args->out, "workspace directory")->required();
-  sub->add_option("--max-features", args->options.sift.max_features, "max features per image")->capture_default_str();
+  sub->add_option("--max-features", args->options.sift.max_features, "max features per image")
+      ->check(InConfigRange("features.sift.max_features"))
+      ->capture_default_str();
   sub->add_flag("--root-sift,!--no-root-sift", args->options.sift.root_sift, "RootSIFT descriptors")
       ->capture_default_str();
   sub->add_option("--max-image-size", args->options.sift.max_image_size,
                   "downscale images whose larger side exceeds this (pixels; 0 = never)")
+      ->check(InConfigRange("features.sift.max_image_size"))
       ->capture_default_str();
   sub->add_flag("!--no-cache", args->options.use_cache, "recompute even where cached features exist");
   AddCommand(app, sub, [args] {

@@ -27,15 +27,20 @@ void RegisterMatch(CLI::App& app) {
   sub->add_option("--out", args->out, "workspace directory (with features from `pgba features`)")->required();
   sub->add_option("--pairs", args->options.pairs.method, "pair selection: exhaustive, sequential, retrieval")
       ->capture_default_str();
-  sub->add_option("--window", args->options.pairs.window, "sequential: images after each image")->capture_default_str();
+  sub->add_option("--window", args->options.pairs.window, "sequential: images after each image")
+      ->check(InConfigRange("matching.pairs.window"))
+      ->capture_default_str();
   sub->add_flag("--loop", args->options.pairs.loop, "sequential: wrap the window around (closed rings)");
   sub->add_option("--neighbors", args->options.pairs.vlad.neighbors, "retrieval: most similar images per image")
+      ->check(InConfigRange("matching.pairs.vlad.neighbors"))
       ->capture_default_str();
   sub->add_option("--threshold", args->options.verification.relative_pose.threshold_px,
                   "RANSAC inlier threshold, pixels of the (possibly downscaled) images SIFT ran on")
+      ->check(InConfigRange("matching.verification.relative_pose.threshold_px"))
       ->capture_default_str();
   sub->add_option("--min-inliers", args->options.verification.relative_pose.min_inliers,
                   "verified pairs need at least this many inliers")
+      ->check(InConfigRange("matching.verification.relative_pose.min_inliers"))
       ->capture_default_str();
   sub->add_option("--database", args->database,
                   "import tracks from a COLMAP database.db instead (its verified two_view_geometries)");

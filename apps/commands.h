@@ -18,6 +18,11 @@ void AddCommand(CLI::App& app, CLI::App* sub, CommandRunner run);
 // --calib and --camera-map of the commands that read images (features, run).
 void AddCalibrationOptions(CLI::App* sub, pgba::CalibrationInput* calib);
 
+// A command-line number that sets a config option (`key`, the dotted config path) is held to
+// the option's range in io/option_ranges.cc, as in a config file: "--threshold: -1 is out of
+// range (> 0; config key matching.verification.relative_pose.threshold_px)", exit code 2.
+CLI::Validator InConfigRange(const std::string& key);
+
 void RegisterSynth(CLI::App& app);
 void RegisterEvaluate(CLI::App& app);
 void RegisterInit(CLI::App& app);

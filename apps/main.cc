@@ -1,12 +1,16 @@
 // pgba: pointless global bundle adjustment, from tracks or images to poses.
 #include <tbb/global_control.h>
 
+#include <cstdlib>
 #include <iostream>
 #include <memory>
+#include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "apps/commands.h"
+#include "pgba/io/option_ranges.h"
 #include "pgba/util/error.h"
 #include "pgba/util/logging.h"
 
@@ -26,6 +30,20 @@ void AddCalibrationOptions(CLI::App* sub, pgba::CalibrationInput* calib) {
                   "parent; none: EXIF focal priors)");
   sub->add_option("--camera-map", calib->camera_map_path,
                   "Lines IMAGE_NAME CAMERA_ID, needed when the calibration has several cameras");
+}
+
+CLI::Validator InConfigRange(const std::string& key) {
+  const std::optional<OptionRange> range = RangeOfOption(key);
+  if (!range) throw std::logic_error("InConfigRange: no range for " + key + " in io/option_ranges.cc");
+  return CLI::Validator(
+      [range = *range, key](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        if (text.empty() || end != text.c_str() + text.size()) return "expected a number, got '" + text + "'";
+        if (!range.Contains(v)) return text + " is out of range (" + range.Describe() + "; config key " + key + ")";
+        return "";
+      },
+      range->Describe(), "RANGE");
 }
 
 // The first word that is not a global option or its value: the subcommand the user meant.

@@ -5,10 +5,12 @@
 #include <algorithm>
 #include <cmath>
 #include <thread>
+#include <vector>
 
 #include "pgba/scene/camera.h"
 #include "pgba/scene/triangulate_model.h"
 #include "pgba/util/error.h"
+#include "pgba/util/id_ordered_map.h"
 #include "pgba/util/logging.h"
 #include "pgba/util/timer.h"
 #include "pgba/util/upper_median.h"
@@ -69,20 +71,25 @@ bool PositionOnTracks(const Reconstruction& tracks, const std::vector<Triplet>& 
   triangulation.min_angle_deg = options.min_track_angle_deg;
   Reconstruction model = TriangulateModel(tracks, *poses, triangulation);
 
-  // One parameter block per centre (map nodes are stable), points in the model's points.
-  std::map<uint32_t, Eigen::Vector3d> C;
+  // One parameter block per centre and per point, each held in one array in id order: Ceres
+  // orders an elimination group by address (util/id_ordered_map.h), and std::map nodes lie
+  // where the allocator put them (another thread count, another --out: other last bits).
+  IdOrderedMap<Eigen::Vector3d> C;
   for (const auto& [id, pose] : *poses) C[id] = pose.C();
+  std::vector<Eigen::Vector3d> X;
+  X.reserve(model.points3D.size());  // no reallocation once addresses are handed to Ceres
   std::map<uint32_t, int> observations_per_image;
   ceres::Problem::Options problem_options;
   problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   ceres::Problem problem(problem_options);
   ceres::CauchyLoss loss(options.loss_scale_px);
   std::vector<ceres::ResidualBlockId> blocks;
-  for (auto& [pid, point] : model.points3D) {
+  for (const auto& [pid, point] : model.points3D) {
     int seen = 0;
     for (const TrackElement& e : point.track) seen += poses->count(e.image_id) > 0;
     if (seen < 2) continue;
     ++summary.num_points;
+    Eigen::Vector3d& xyz = X.emplace_back(point.xyz);
     for (const TrackElement& e : point.track) {
       auto pose = poses->find(e.image_id);
       if (pose == poses->end()) continue;
@@ -90,7 +97,7 @@ bool PositionOnTracks(const Reconstruction& tracks, const std::vector<Triplet>& 
       const Camera& camera = tracks.CameraOf(image);
       auto* cost = new ceres::AutoDiffCostFunction<FixedRotationReprojection, 2, 3, 3>(new FixedRotationReprojection{
           pose->second.R(), image.points2D.at(e.point2D_idx).xy, camera.model, camera.params.data()});
-      blocks.push_back(problem.AddResidualBlock(cost, &loss, C.at(e.image_id).data(), point.xyz.data()));
+      blocks.push_back(problem.AddResidualBlock(cost, &loss, C.at(e.image_id).data(), xyz.data()));
       ++observations_per_image[e.image_id];
     }
   }
@@ -131,8 +138,8 @@ bool PositionOnTracks(const Reconstruction& tracks, const std::vector<Triplet>& 
   ceres::Solver::Options solver;
   solver.linear_solver_type = ceres::SPARSE_SCHUR;
   auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
-  for (auto& [pid, point] : model.points3D)
-    if (problem.HasParameterBlock(point.xyz.data())) ordering->AddElementToGroup(point.xyz.data(), 0);
+  for (Eigen::Vector3d& xyz : X)
+    if (problem.HasParameterBlock(xyz.data())) ordering->AddElementToGroup(xyz.data(), 0);
   for (auto& [id, c] : C)
     if (problem.HasParameterBlock(c.data())) ordering->AddElementToGroup(c.data(), 1);
   solver.linear_solver_ordering = ordering;

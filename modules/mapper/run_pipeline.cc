@@ -1,11 +1,11 @@
 #include "mapper/run_pipeline.h"
 
 #include <filesystem>
-#include <fstream>
 
 #include "pgba/io/colmap_text.h"
 #include "pgba/util/atomic_file.h"
 #include "pgba/util/error.h"
+#include "pgba/util/input_file.h"
 #include "pgba/util/logging.h"
 
 namespace pgba {
@@ -34,11 +34,14 @@ nlohmann::json TracksKey(const FeatureExtractionResult& features, const Matching
   return {{"matching", options}, {"features", features.index.images.size()}, {"images", images}};
 }
 
+// A key that is not a regular file (a FIFO would block the read forever) is an InputError
+// naming it; a malformed one only means that the tracks are recomputed.
 bool CachedTracksValid(const fs::path& out, const nlohmann::json& key) {
   const fs::path key_path = out / "tracks" / "key.json";
-  if (!fs::exists(key_path) || !fs::exists(out / "tracks" / "points3D.txt")) return false;
-  std::ifstream in(key_path);
-  const nlohmann::json stored = nlohmann::json::parse(in, nullptr, false);
+  std::error_code ec;
+  if (!fs::exists(key_path, ec) || !fs::exists(out / "tracks" / "points3D.txt", ec)) return false;
+  const std::string text = ReadRegularFile(key_path.string());
+  const nlohmann::json stored = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
   return !stored.is_discarded() && stored == key;
 }
 

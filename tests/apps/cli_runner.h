@@ -17,15 +17,25 @@ struct CliResult {
   std::string output;  // stdout + stderr
 };
 
-inline CliResult RunPgba(const std::string& args) {
+// A shell command's exit code and output (stdout; the command redirects stderr into it).
+inline CliResult RunCommand(const std::string& command) {
   CliResult r;
-  FILE* pipe = ::popen((std::string(PGBA_BINARY) + " " + args + " 2>&1").c_str(), "r");
+  FILE* pipe = ::popen(command.c_str(), "r");
   if (!pipe) return r;
   std::array<char, 4096> buf;
   while (fgets(buf.data(), buf.size(), pipe)) r.output += buf.data();
   const int status = ::pclose(pipe);
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return r;
+}
+
+inline CliResult RunPgba(const std::string& args) { return RunCommand(std::string(PGBA_BINARY) + " " + args + " 2>&1"); }
+
+// RunPgba under `timeout`: a run still going after `seconds` is killed and reported as
+// code 124 (a hang), a run ended by a signal as 128 + the signal.
+inline CliResult RunPgbaWithin(int seconds, const std::string& args) {
+  return RunCommand("timeout --kill-after=5 " + std::to_string(seconds) + " " + std::string(PGBA_BINARY) + " " +
+                    args + " 2>&1");
 }
 
 // The same with stdout and stderr apart (tests that check where a message goes).

@@ -3,6 +3,7 @@
 #include "features/extract_features.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <filesystem>
 #include <fstream>
@@ -10,6 +11,8 @@
 #include <opencv2/imgproc.hpp>
 
 #include "features/feature_file.h"
+#include "features/feature_index.h"
+#include "pgba/io/colmap_text.h"
 #include "pgba/util/error.h"
 
 namespace pgba {
@@ -158,6 +161,51 @@ TEST_F(ExtractFeaturesTest, FatalInputsAreInputErrors) {
   EXPECT_THROW(ExtractFeatures(images_.string(), {}, ws_.string(), {}), InputError);
   // Matching without features.
   EXPECT_THROW(ReadFeatureIndex((root_ / "no_ws").string()), InputError);
+}
+
+// The index the matcher reads is an input like any other: a FIFO is refused (the reader
+// opened it and blocked), the JSON is parsed strictly and every value is checked, each error
+// naming images.json.
+TEST_F(ExtractFeaturesTest, FeatureIndexIsReadStrictly) {
+  FeatureIndex index;
+  WriteCameras(root_ / "cameras.txt", "1 PINHOLE 320 240 300 300 160 120\n");
+  index.cameras = ReadColmapCameras((root_ / "cameras.txt").string());
+  for (uint32_t id : {1u, 2u}) index.images.push_back({id, "im" + std::to_string(id) + ".png", 1, 320, 240, 100, 1.0});
+  WriteFeatureIndex(ws_.string(), index);
+  ASSERT_EQ(ReadFeatureIndex(ws_.string()).images.size(), 2u);
+  const fs::path json = fs::path(FeaturesDir(ws_.string())) / "images.json";
+  const std::string good = ReadBytes(json);
+  auto expect_read_error = [&](const std::string& problem) {
+    try {
+      ReadFeatureIndex(ws_.string());
+      ADD_FAILURE() << "accepted, expected " << problem;
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(json.string()), std::string::npos) << what;
+      EXPECT_NE(what.find(problem), std::string::npos) << what;
+    }
+  };
+  auto expect_error = [&](const std::string& text, const std::string& problem) {
+    std::ofstream(json, std::ios::trunc) << text;
+    expect_read_error(problem);
+  };
+  auto replaced = [&](const std::string& from, const std::string& to) {
+    std::string text = good;
+    const size_t at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    return at == std::string::npos ? text : text.replace(at, from.size(), to);
+  };
+  expect_error(replaced("\"width\": 320", "\"width\": 320, \"width\": 640"), "duplicate key");
+  expect_error(replaced("\"width\": 320", "\"width\": 1e999"), "malformed JSON");
+  expect_error(replaced("\"image_id\": 2", "\"image_id\": -1"), "image_id: -1 is out of range");
+  expect_error(replaced("\"image_id\": 2", "\"image_id\": 1"), "image_id 1 listed twice");
+  expect_error(replaced("\"name\": \"im2.png\"", "\"name\": \"im1.png\""), "image im1.png listed twice");
+  expect_error(replaced("\"height\": 240", "\"height\": 0"), "height: 0 is out of range");
+  expect_error(replaced("\"num_features\": 100", "\"num_features\": 1.5"), "expected an integer");
+  expect_error(replaced("\"camera_id\": 1", "\"camera_id\": 7"), "unknown camera 7");
+  fs::remove(json);
+  ASSERT_EQ(::mkfifo(json.c_str(), 0600), 0);
+  expect_read_error("is not a regular file");
 }
 
 }  // namespace

@@ -8,7 +8,8 @@ namespace pgba::fuzz {
 
 std::vector<std::string> Seeds() {
   return {"# GCPs\nGCP g1 10 20 30 0.05\nGCP g2 -1.5 2.25 1e3\nOBS g1 im1.jpg 100.5 200.25\nOBS g2 im2.jpg 5 6\n",
-          "OBS late im1.jpg 1 2\nGCP late 0 0 0\n", "GCP only 1 2 3\n"};
+          "OBS late im1.jpg 1 2\nGCP late 0 0 0\n", "GCP only 1 2 3\n",
+          "\r\r\nGCP g 1 2 3\n"};  // libFuzzer's find: a line of whitespace only, returned with no token
 }
 
 }  // namespace pgba::fuzz

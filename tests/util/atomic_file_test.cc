@@ -195,6 +195,37 @@ TEST_F(AtomicFileTest, NonRegularFileIsRefusedNotReplaced) {
   }
 }
 
+// The check made before the work: the write's own InputError for each unwritable path, and
+// nothing left behind; a writable path is left as it was (its parent created).
+TEST_F(AtomicFileTest, CheckOutputFileGivesTheWritesErrorBeforeTheWork) {
+  const fs::path fifo = dir_ / "out.json";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  fs::create_directory(dir_ / "adir");
+  WriteStringAtomically(dir_ / "file", "content");
+  for (const fs::path& bad : {fifo, dir_ / "adir", dir_ / "file" / "child.json"}) {
+    std::string check_error, write_error;
+    try {
+      CheckOutputFile(bad);
+    } catch (const InputError& e) {
+      check_error = e.what();
+    }
+    try {
+      WriteStringAtomically(bad, "{}");
+    } catch (const InputError& e) {
+      write_error = e.what();
+    }
+    EXPECT_FALSE(check_error.empty()) << bad << " passed the check";
+    EXPECT_EQ(check_error, write_error) << bad;
+  }
+  EXPECT_TRUE(fs::is_fifo(fifo));
+  EXPECT_EQ(Entries(), Names({"adir", "file", "out.json"}));
+  CheckOutputFile(dir_ / "new" / "metrics.json");
+  EXPECT_TRUE(fs::is_directory(dir_ / "new"));
+  EXPECT_TRUE(fs::is_empty(dir_ / "new"));
+  CheckOutputFile(dir_ / "file");
+  EXPECT_EQ(Read(dir_ / "file"), "content");
+}
+
 // A symlinked output is written through the link (its target replaced atomically), and the
 // link stays a link; a directory symlink likewise for a staged model directory.
 TEST_F(AtomicFileTest, SymlinkIsFollowed) {

@@ -44,7 +44,8 @@ class TextReaderTest : public ::testing::Test {
 using Tokens = std::vector<std::string>;
 
 TEST_F(TextReaderTest, NextLineSkipsCommentsAndBlankLinesCountingThem) {
-  Write("# header\n\n  \t\na b  c\n   # indented comment\n\t1\t2 \r\nlast without newline");
+  // Lines 7-9 hold only whitespace the tokenizer splits on ("\r\r": one CR is the line end's).
+  Write("# header\n\n  \t\na b  c\n   # indented comment\n\t1\t2 \r\n\r\r\n \v\f\n\r \r\nlast without newline");
   TextReader r(path_);
   Tokens t;
   ASSERT_TRUE(r.NextLine(&t));
@@ -56,7 +57,7 @@ TEST_F(TextReaderTest, NextLineSkipsCommentsAndBlankLinesCountingThem) {
   EXPECT_EQ(r.raw_line(), "\t1\t2 ");  // CR of a CRLF line end removed
   ASSERT_TRUE(r.NextLine(&t));
   EXPECT_EQ(t, Tokens({"last", "without", "newline"}));
-  EXPECT_EQ(r.line_number(), 7);
+  EXPECT_EQ(r.line_number(), 10);
   EXPECT_FALSE(r.NextLine(&t));
   EXPECT_TRUE(t.empty());
   EXPECT_FALSE(r.NextLine(&t));

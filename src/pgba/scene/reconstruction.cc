@@ -83,8 +83,10 @@ std::string Reconstruction::CheckConsistency() const {
         return "image " + std::to_string(id) + " observation " + std::to_string(k) + " refers to missing point " +
                std::to_string(pid);
       const auto& tr = p->second.track;
+      // A copy: a lambda may not capture a structured binding in C++17 (clang rejects it).
+      const uint32_t image_id = id;
       if (std::none_of(tr.begin(), tr.end(), [&](const TrackElement& e) {
-            return e.image_id == id && e.point2D_idx == k;
+            return e.image_id == image_id && e.point2D_idx == k;
           }))
         return "point " + std::to_string(pid) + " does not list image " + std::to_string(id) + " observation " +
                std::to_string(k);

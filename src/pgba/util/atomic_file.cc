@@ -91,6 +91,18 @@ void WriteStringAtomically(const fs::path& path, const std::string& content) {
   WriteFileAtomically(path, [&](std::ostream& out) { out << content; });
 }
 
+void CheckOutputFile(const fs::path& path) {
+  const fs::path target = ResolveOutput(path, /*directory=*/false);
+  CreateParent(target);
+  const fs::path probe = Sibling(target, "probe");
+  {
+    std::ofstream out(probe, std::ios::binary | std::ios::trunc);
+    if (!out) ThrowInputError(target.string(), 0, "cannot open for writing");
+  }
+  std::error_code ec;
+  fs::remove(probe, ec);
+}
+
 StagedDirectory::StagedDirectory(fs::path final_dir)
     : final_(ResolveOutput(final_dir, /*directory=*/true)), staging_(Sibling(final_, "tmp")) {
   std::error_code ec;

@@ -24,6 +24,12 @@ void WriteFileAtomically(const std::filesystem::path& path,
 // Convenience for a string payload.
 void WriteStringAtomically(const std::filesystem::path& path, const std::string& content);
 
+// Checks, before the work whose result goes to `path`, that WriteFileAtomically could write
+// it: the same InputError as the write would give (a FIFO or device refused, a parent that is
+// a file, no permission), now instead of after the computation. Creates the parent folder;
+// leaves `path` itself as it is.
+void CheckOutputFile(const std::filesystem::path& path);
+
 // A staging directory that becomes `final_dir` only when Commit() is called. If the object
 // is destroyed without Commit() (an exception), the staging directory is removed and
 // `final_dir` keeps its previous content. InputError if `final_dir` is an existing file or

@@ -5,6 +5,9 @@
 #include <iostream>
 #include <mutex>
 
+#include "pgba/util/atomic_file.h"
+#include "pgba/util/error.h"
+
 namespace pgba {
 namespace {
 std::atomic<int> g_verbosity{1};
@@ -16,9 +19,13 @@ void SetLogVerbosity(int verbosity) { g_verbosity = verbosity; }
 int LogVerbosity() { return g_verbosity; }
 
 void SetLogFile(const std::string& path) {
+  // Before the lock (it logs nothing): opening a FIFO for writing blocks until a reader comes.
+  if (!path.empty()) CheckOutputFile(path);
   std::lock_guard<std::mutex> lock(g_mutex);
   if (g_file.is_open()) g_file.close();
-  if (!path.empty()) g_file.open(path, std::ios::app);
+  if (path.empty()) return;
+  g_file.open(path, std::ios::app);
+  if (!g_file) ThrowInputError(path, 0, "cannot open the log for writing");
 }
 
 void LogMessage(LogLevel level, const std::string& text) {

@@ -11,7 +11,8 @@ enum class LogLevel { kError = 0, kWarning = 0, kInfo = 1, kDebug = 2 };
 
 void SetLogVerbosity(int verbosity);
 int LogVerbosity();
-// Also append every message to this file ("" disables).
+// Also append every message to this file ("" disables). InputError naming it if it cannot
+// be written, or is a FIFO, a device or a socket (CheckOutputFile): opening a FIFO blocks.
 void SetLogFile(const std::string& path);
 void LogMessage(LogLevel level, const std::string& text);
 

@@ -21,7 +21,9 @@ bool TextReader::NextLine(std::vector<std::string>* tokens) {
   while (std::getline(in_, raw_)) {
     ++line_number_;
     if (!raw_.empty() && raw_.back() == '\r') raw_.pop_back();
-    size_t first = raw_.find_first_not_of(" \t");
+    // Blank by the same whitespace that splits the tokens: a line of "\r\r", "\v" or "\f" has no
+    // token, and returning it gave the parsers an empty line to index (tok[0]; libFuzzer).
+    size_t first = raw_.find_first_not_of(kSpace);
     if (first == std::string::npos || raw_[first] == '#') continue;
     std::istringstream ss(raw_);
     std::string tok;
