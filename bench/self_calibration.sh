@@ -41,6 +41,7 @@ for scene in "${scenes[@]}"; do
   "$PGBA" synth --scenario "$kind" --seed "$seed" --outliers 0.02 --k1 "$k1" --focal-prior-error "$e" \
     --out "$dir/prior" >/dev/null
   "$PGBA" synth --scenario "$kind" --seed "$seed" --outliers 0.02 --k1 "$k1" --out "$dir/true" >/dev/null
+  cp "$dir/true/gt/cameras.txt" "$dir/true/input/cameras.txt"  # synth's input holds k = 0: give it the lens
   "$PGBA" reconstruct --tracks "$dir/prior/input" --config "$out/self_calibration.json" --out "$dir/run_prior" \
     >"$dir/run_prior.log" 2>&1
   "$PGBA" reconstruct --tracks "$dir/true/input" --out "$dir/run_true" >"$dir/run_true.log" 2>&1

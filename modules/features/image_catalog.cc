@@ -29,9 +29,14 @@ std::string FindCalibration(const fs::path& dir, const std::string& given) {
     RequireRegularFile(given);
     return given;
   }
+  // A cameras.txt that is there but no regular file (a FIFO, a device) is refused naming it,
+  // not skipped: skipping it would silently run on priors instead of the user's calibration.
   std::error_code ec;
   for (const fs::path& p : {dir / "cameras.txt", dir.parent_path() / "cameras.txt"})
-    if (fs::is_regular_file(p, ec)) return p.string();
+    if (fs::exists(p, ec)) {
+      RequireRegularFile(p.string());
+      return p.string();
+    }
   return "";
 }
 

@@ -654,8 +654,13 @@ GlobalBAResult RelinearizedGlobalBA(const Reconstruction& tracks, const LocalHes
                                     const std::vector<LocalMotion>& motions, const std::vector<LocalHessian>& hessians,
                                     const GlobalBAOptions& options, const GlobalBAIterationCallback& callback,
                                     const GcpInput* gcps) {
-  if (options.relinearize_checked)
-    return CheckedRelinearization(tracks, lh_options, initial_poses, motions, hessians, options, callback, gcps);
+  if (options.relinearize_checked) {
+    GlobalBAOptions passes = options;
+    const bool self_calibrating =
+        std::any_of(hessians.begin(), hessians.end(), [](const LocalHessian& h) { return h.num_intrinsics() > 0; });
+    if (self_calibrating) passes.max_relinearizations = options.max_relinearizations_self_calibrating;
+    return CheckedRelinearization(tracks, lh_options, initial_poses, motions, hessians, passes, callback, gcps);
+  }
   Timer timer;
   GlobalBAOptions pointless = options;
   pointless.weighting = TripletWeighting::kHessian;

@@ -4,6 +4,7 @@
 #include "features/image_catalog.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -33,6 +34,23 @@ TEST(ImageCatalogJson, CamerasAndMapFromTheJsonFileMatchTextFiles) {
   EXPECT_FALSE(json.camera_of.count("c.png"));
   ASSERT_EQ(json.cameras.size(), text.cameras.size());
   for (const auto& [id, cam] : text.cameras) EXPECT_EQ(json.cameras.at(id).params, cam.params);
+  fs::remove_all(root);
+}
+
+// A cameras.txt found beside the images that is a FIFO is an error naming it (it was skipped,
+// and the run went on with priors instead of the user's calibration).
+TEST(ImageCatalog, FoundCalibrationThatIsNoRegularFileIsRefused) {
+  const fs::path root = fs::temp_directory_path() / ("pgba_catalog_fifo_" + std::to_string(::getpid()));
+  fs::remove_all(root);
+  fs::create_directories(root / "images");
+  for (const char* f : {"a.png", "b.png", "c.png"}) std::ofstream(root / "images" / f) << "x";
+  ASSERT_EQ(::mkfifo((root / "images" / "cameras.txt").c_str(), 0600), 0);
+  try {
+    BuildImageCatalog((root / "images").string(), {"", ""});
+    ADD_FAILURE() << "a FIFO cameras.txt was accepted";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("cameras.txt"), std::string::npos) << e.what();
+  }
   fs::remove_all(root);
 }
 

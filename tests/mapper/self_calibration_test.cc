@@ -109,9 +109,9 @@ TEST(SelfCalibration, RecoversFocalAndDistortionFromAWrongPrior) {
       ASSERT_TRUE(f.at("stddev").is_number());
       const double sigma_f = f.at("stddev").get<double>();
       EXPECT_GT(sigma_f, 0.0);
-      EXPECT_LT(std::abs(p[0] - kTrueFocal), 4.0 * sigma_f);  // measured: 0.7 sigma (1.73 px)
+      EXPECT_LT(std::abs(p[0] - kTrueFocal), 4.0 * sigma_f);
     }
-    // Measured: 1.054x (pointless), 0.952x (point-based).
+    // Measured: 0.964x (pointless, f 800.18, 4 re-linearisations), 0.952x (point-based).
     EXPECT_LE(r.rel_rot_deg, 1.1 * given.rel_rot_deg) << RefinementMethodName(method);
     std::cout << "  " << r.result.intrinsics.dump() << "\n";
   }
@@ -143,7 +143,7 @@ TEST(SelfCalibration, PaperTripletsEstimateTheFocalToo) {
   const double rel = MedianRelativeRotationError(r.poses, truth);
   std::printf("  paper triplets: f %.3f (truth %.1f), k %.5f (truth %.3f), rel. rotation %.5f deg\n", p[0], kTrueFocal,
               p[3], kTrueK, rel);
-  // Measured: f 800.41 px, k -0.0812, 0.0666 deg (the default method: 0.0714 deg).
+  // Measured: f 800.41 px, k -0.0812, 0.0666 deg (the default method: 0.0653 deg).
   EXPECT_NEAR(p[0], kTrueFocal, 0.003 * kTrueFocal);
   EXPECT_NEAR(p[3], kTrueK, 0.005);
   EXPECT_LT(rel, 0.075);

@@ -179,6 +179,7 @@ Table BuildTable() {
   t["global_ba.scalar_position_sigma"] = kPositive;
   t["global_ba.num_threads"] = kNonNegative;
   t["global_ba.max_relinearizations"] = kNonNegative;
+  t["global_ba.max_relinearizations_self_calibrating"] = kNonNegative;
   t["global_ba.relinearize_misfit"] = Unbounded();  // <= 0: always
   t["global_ba.relinearize_tolerance"] = kPositive;
   t["global_ba.relinearize_cost_tolerance"] = kNonNegative;
