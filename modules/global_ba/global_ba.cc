@@ -105,11 +105,16 @@ double Reweight(Unknowns* u, const GlobalBAOptions& options, std::vector<double>
   return sigma;
 }
 
+// Degrees of freedom of a motion's local BA residuals: 2 per observation, minus 3 per point
+// and the 6N - 7 informative pose directions.
+double ResidualDegreesOfFreedom(const LocalHessian& h) {
+  return 2.0 * h.num_observations - 3.0 * h.num_points - InformativeDimension(h.num_views());
+}
+
 // Per-coordinate pixel noise variance of a motion, from its local BA residuals: the sum of
-// squares over the degrees of freedom (2 per observation, minus 3 per point and the 6N - 7
-// informative pose directions). NaN when not estimable.
+// squares over ResidualDegreesOfFreedom. NaN when not estimable.
 double NoiseVariance(const LocalHessian& h) {
-  const double dof = 2.0 * h.num_observations - 3.0 * h.num_points - InformativeDimension(h.num_views());
+  const double dof = ResidualDegreesOfFreedom(h);
   if (!(dof > 0) || !(h.rms_px > 0)) return std::numeric_limits<double>::quiet_NaN();
   return h.rms_px * h.rms_px * h.num_observations / dof;
 }
@@ -342,7 +347,7 @@ double PooledNoiseVariance(const Unknowns& u) {
   double sum = 0.0, dof = 0.0;
   for (const MotionTerm& t : u.terms) {
     const LocalHessian& h = *t.hessian;
-    const double d = 2.0 * h.num_observations - 3.0 * h.num_points - InformativeDimension(h.num_views());
+    const double d = ResidualDegreesOfFreedom(h);
     if (d > 0 && std::isfinite(h.rms_px)) {
       sum += h.rms_px * h.rms_px * h.num_observations;
       dof += d;
