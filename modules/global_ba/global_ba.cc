@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "modules/global_ba/gcp_residual.h"
+#include "modules/global_ba/global_ba_solve.h"
 #include "modules/global_ba/gcp_terms.h"
 #include "modules/global_ba/motion_normal_equations.h"
 #include "modules/global_ba/motion_residual.h"
@@ -26,12 +27,32 @@
 
 namespace pgba {
 
+using internal::IntrinsicSizes;
+using internal::NoiseVariance;
+using internal::ResidualDegreesOfFreedom;
+
+std::vector<int> internal::IntrinsicSizes(const LocalHessian& h) {
+  std::vector<int> sizes;
+  for (const std::vector<int>& free : h.intrinsic_free) sizes.push_back(static_cast<int>(free.size()));
+  return sizes;
+}
+
+double internal::ResidualDegreesOfFreedom(const LocalHessian& h) {
+  return 2.0 * h.num_observations - 3.0 * h.num_points - InformativeDimension(h.num_views());
+}
+
+double internal::NoiseVariance(const LocalHessian& h) {
+  const double dof = ResidualDegreesOfFreedom(h);
+  if (!(dof > 0) || !(h.rms_px > 0)) return std::numeric_limits<double>::quiet_NaN();
+  return h.rms_px * h.rms_px * h.num_observations / dof;
+}
+
 namespace {
 
 // One used motion: its local Hessian, weight matrix, similarity and IRLS state.
 struct MotionTerm {
   const LocalHessian* hessian = nullptr;
-  Eigen::MatrixXd W;
+  std::shared_ptr<const Eigen::MatrixXd> W;  // shared with its residuals (motion_residual.h)
   Eigen::VectorXd newton_step;  // LocalHessian::newton_step (kHessian only; empty: zero)
   double unit = 1.0;  // ResidualUnit
   MotionSimilarity sim;
@@ -61,11 +82,6 @@ std::map<uint32_t, Pose> CurrentPoses(const Unknowns& u) {
   return poses;
 }
 
-std::vector<int> IntrinsicSizes(const LocalHessian& h) {
-  std::vector<int> sizes;
-  for (const std::vector<int>& free : h.intrinsic_free) sizes.push_back(static_cast<int>(free.size()));
-  return sizes;
-}
 
 MotionResidual* MakeResidual(const Unknowns& u, const MotionTerm& t) {
   std::vector<Eigen::Matrix3d> R0;
@@ -105,19 +121,7 @@ double Reweight(Unknowns* u, const GlobalBAOptions& options, std::vector<double>
   return sigma;
 }
 
-// Degrees of freedom of a motion's local BA residuals: 2 per observation, minus 3 per point
-// and the 6N - 7 informative pose directions.
-double ResidualDegreesOfFreedom(const LocalHessian& h) {
-  return 2.0 * h.num_observations - 3.0 * h.num_points - InformativeDimension(h.num_views());
-}
 
-// Per-coordinate pixel noise variance of a motion, from its local BA residuals: the sum of
-// squares over ResidualDegreesOfFreedom. NaN when not estimable.
-double NoiseVariance(const LocalHessian& h) {
-  const double dof = ResidualDegreesOfFreedom(h);
-  if (!(dof > 0) || !(h.rms_px > 0)) return std::numeric_limits<double>::quiet_NaN();
-  return h.rms_px * h.rms_px * h.num_observations / dof;
-}
 
 // Median over the terms of e_s^2 / ((6N - 7) sigma_s^2) (11 for a triplet): how far the
 // solution is from each motion's model centre, in units of the motion's own noise
@@ -224,6 +228,7 @@ ceres::Solver::Summary SolveRound(const GlobalBAOptions& options, double sigma, 
   so.max_num_iterations = options.max_iterations_per_round;
   so.function_tolerance = options.function_tolerance;
   so.parameter_tolerance = options.parameter_tolerance;
+  so.initial_trust_region_radius = options.initial_trust_region_radius;
   so.num_threads = options.num_threads > 0 ? options.num_threads
                                            : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   so.logging_type = ceres::SILENT;
@@ -278,7 +283,7 @@ RoundSummary SolveRoundByBlocks(const GlobalBAOptions& options, int round, bool 
     if (options.weighting == TripletWeighting::kHessian) {
       term.h = &t.hessian->h;
     } else {
-      scalar_h.push_back(t.W.transpose() * t.W);
+      scalar_h.push_back(t.W->transpose() * *t.W);
       term.h = &scalar_h.back();
     }
     for (const uint32_t id : t.hessian->image_ids) term.poses.push_back(index.at(id));
@@ -297,6 +302,7 @@ RoundSummary SolveRoundByBlocks(const GlobalBAOptions& options, int round, bool 
   so.max_iterations = options.max_iterations_per_round;
   so.function_tolerance = options.function_tolerance;
   so.parameter_tolerance = options.parameter_tolerance;
+  so.initial_radius = options.initial_trust_region_radius;
   const MotionBlockCallback report = [&](int iteration, double cost) {
     if (iteration == 0 && (round > 0 || !report_start)) return;
     if (iteration > 0) ++summary->iterations;
@@ -373,10 +379,13 @@ std::map<uint32_t, GlobalIntrinsics> ResultIntrinsics(const Unknowns& u, const s
   return out;
 }
 
-GlobalBAResult RunGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const std::vector<LocalMotion>& motions,
-                           const std::vector<LocalHessian>& hessians, const GlobalBAOptions& options,
-                           const GlobalBAIterationCallback& callback, const GcpInput* gcps,
-                           bool report_start = true) {
+}  // namespace
+
+GlobalBAResult internal::RunGlobalBA(const std::map<uint32_t, Pose>& initial_poses,
+                                     const std::vector<LocalMotion>& motions,
+                                     const std::vector<LocalHessian>& hessians, const GlobalBAOptions& options,
+                                     const GlobalBAIterationCallback& callback, const GcpInput* gcps,
+                                     bool report_start) {
   Timer timer;
   const MotionSelection sel = SelectMotions(initial_poses, motions, hessians);
   if (sel.hessian_indices.empty())
@@ -388,7 +397,7 @@ GlobalBAResult RunGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const 
   for (int hi : sel.hessian_indices) {
     MotionTerm t;
     t.hessian = &hessians[hi];
-    t.W = MotionWeightMatrix(*t.hessian, options);
+    t.W = std::make_shared<const Eigen::MatrixXd>(MotionWeightMatrix(*t.hessian, options));
     // Aver_BA averages the relative motions themselves (scalar weights, no quadratic model).
     if (options.weighting == TripletWeighting::kHessian) t.newton_step = t.hessian->newton_step;
     t.unit = ResidualUnit(*t.hessian, options);
@@ -398,8 +407,8 @@ GlobalBAResult RunGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const 
     t.sim = options.similarity_init == SimilarityInit::kFromPoses
                 ? InitializeSimilarity(global, t.hessian->local_poses, motion.global_to_local)
                 : SimilarityFromSim3(global, motion.global_to_local);
-    u.terms.push_back(t);
     AddIntrinsicUnknowns(*t.hessian, &u);
+    u.terms.push_back(std::move(t));
   }
   if (gcps && !gcps->gcps.empty()) {
     std::vector<const LocalHessian*> used;
@@ -471,242 +480,10 @@ GlobalBAResult RunGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const 
   return result;
 }
 
-// Median over the re-linearised triplets of |W_s (x_s - x_lin_s)| / (unit_s sigma_s): how far
-// `result` moved from the linearisation points (the local poses of `hessians[i]`, i in
-// `relinearized`), in noise sigmas.
-double Displacement(const GlobalBAResult& result, const std::vector<LocalHessian>& hessians,
-                    const std::vector<int>& relinearized, const GlobalBAOptions& options) {
-  std::vector<double> d;
-  for (const int i : relinearized) {
-    const LocalHessian& h = hessians[i];
-    const double v = NoiseVariance(h);
-    if (!std::isfinite(v) || !(result.irls_weights[i] > 0)) continue;
-    std::vector<PoseBlock> blocks;
-    std::vector<Pose> global;
-    std::vector<Eigen::Matrix3d> R0;
-    std::vector<const double*> x;
-    for (const uint32_t id : h.image_ids) {
-      global.push_back(result.poses.at(id));
-      blocks.push_back(PoseBlock::FromPose(global.back()));
-      R0.push_back(blocks.back().R0);
-    }
-    for (const PoseBlock& b : blocks) x.push_back(b.x.data());
-    const MotionSimilarity sim = SimilarityFromSim3(global, result.similarities[i]);
-    const MotionResidual f(R0, sim, h.local_poses, MotionWeightMatrix(h, options), Eigen::VectorXd(), h.intrinsics0,
-                           IntrinsicSizes(h));
-    std::vector<const double*> k;
-    for (const uint32_t id : h.intrinsic_camera_ids) k.push_back(result.intrinsics.at(id).values.data());
-    d.push_back(f.Evaluate(x, sim.x.data(), k).norm() / (ResidualUnit(h, options) * std::sqrt(v)));
-  }
-  return d.empty() ? 0.0 : UpperMedian(d);
-}
-
-}  // namespace
-
 GlobalBAResult PointlessGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const std::vector<LocalMotion>& motions,
                                  const std::vector<LocalHessian>& hessians, const GlobalBAOptions& options,
                                  const GlobalBAIterationCallback& callback, const GcpInput* gcps) {
-  return RunGlobalBA(initial_poses, motions, hessians, options, callback, gcps);
-}
-
-namespace {
-
-// The local Hessians of `motions` re-taken where `result` puts them (points re-triangulated,
-// no local iteration). Only the motions `result` used; `frames[i]` / `models[i]` are replaced
-// for those whose Hessian is ok, and their indices returned.
-std::vector<int> RelinearizeAt(const Reconstruction& tracks, const LocalHessianOptions& at_solution,
-                               const ObservationShares* shares, const std::vector<LocalMotion>& motions,
-                               const GlobalBAResult& result, std::vector<LocalMotion>* frames,
-                               std::vector<LocalHessian>* models) {
-  std::vector<LocalMotion> predicted;
-  std::vector<int> index;
-  for (size_t i = 0; i < motions.size(); ++i) {
-    if (!(result.irls_weights[i] > 0)) continue;  // not used
-    LocalMotion t = motions[i];
-    t.global_to_local = result.similarities[i];
-    for (int v = 0; v < t.num_views(); ++v) t.local_poses[v] = t.global_to_local.Apply(result.poses.at(t.image_ids[v]));
-    predicted.push_back(std::move(t));
-    index.push_back(static_cast<int>(i));
-  }
-  LocalHessianResult lr;
-  if (result.intrinsics.empty()) {
-    lr = ComputeLocalHessians(tracks, predicted, at_solution, shares);
-  } else {
-    // Self-calibration: the models re-taken with the solution's intrinsics, the same unknowns.
-    Reconstruction at = tracks;
-    FreeIntrinsics free;
-    for (const auto& [id, k] : result.intrinsics) {
-      ScatterIntrinsics(k.values, k.free, &at.cameras.at(id));
-      free[id] = k.free;
-    }
-    lr = ComputeLocalHessians(at, predicted, at_solution, shares, &free);
-  }
-  std::vector<int> relinearized;
-  for (size_t j = 0; j < index.size(); ++j) {
-    if (lr.hessians[j].status != LocalHessianStatus::kOk) continue;  // keeps its previous model
-    (*models)[index[j]] = std::move(lr.hessians[j]);
-    (*models)[index[j]].motion_index = index[j];
-    (*frames)[index[j]] = std::move(predicted[j]);
-    relinearized.push_back(index[j]);
-  }
-  return relinearized;
-}
-
-double TotalRobustCost(const std::vector<LocalHessian>& models, const GlobalBAResult& used) {
-  double c = 0.0;
-  for (size_t i = 0; i < models.size(); ++i)
-    if (used.irls_weights[i] > 0) c += models[i].robust_cost;
-  return c;
-}
-
-// A re-linearised solve from `poses`, its iterations counted on after those in `total` (the
-// callback sees one continuous count) and added to it.
-GlobalBAResult SolveAgain(const std::map<uint32_t, Pose>& poses, const std::vector<LocalMotion>& frames,
-                          const std::vector<LocalHessian>& models, const GlobalBAOptions& options,
-                          const GlobalBAIterationCallback& callback, const GcpInput* gcps, GlobalBASummary* total) {
-  const int offset = total->iterations;
-  GlobalBAIterationCallback shifted;
-  if (callback)
-    shifted = [&callback, offset](const GlobalBAIteration& it) {
-      GlobalBAIteration c = it;
-      c.iteration += offset;
-      callback(c);
-    };
-  GlobalBAResult result = RunGlobalBA(poses, frames, models, options, shifted, gcps, /*report_start=*/false);
-  const GlobalBASummary& s = result.summary;
-  total->iterations += s.iterations;
-  total->rounds += s.rounds;
-  total->cost_per_iteration.insert(total->cost_per_iteration.end(), s.cost_per_iteration.begin(),
-                                   s.cost_per_iteration.end());
-  return result;
-}
-
-// GlobalBAOptions::relinearize_checked: Gauss-Newton over re-linearisation passes, each step
-// kept only if the true robust cost falls.
-GlobalBAResult CheckedRelinearization(const Reconstruction& tracks, const LocalHessianOptions& lh_options,
-                                      const std::map<uint32_t, Pose>& initial_poses,
-                                      const std::vector<LocalMotion>& motions,
-                                      const std::vector<LocalHessian>& hessians, const GlobalBAOptions& options,
-                                      const GlobalBAIterationCallback& callback, const GcpInput* gcps) {
-  Timer timer;
-  GlobalBAOptions pointless = options;
-  pointless.weighting = TripletWeighting::kHessian;
-  LocalHessianOptions at_solution = lh_options;
-  at_solution.max_iterations = 0;
-  ObservationShares shares;
-  if (at_solution.shared_observation_weighting) shares = CountObservationShares(tracks, motions);
-
-  std::vector<LocalHessian> models = hessians;
-  std::vector<LocalMotion> frames = motions;
-  GlobalBAResult trial = RunGlobalBA(initial_poses, frames, models, pointless, callback, gcps);
-  GlobalBASummary total = trial.summary;
-  // The kept state: the initial poses (cost of the models taken there), then each kept step.
-  GlobalBAResult kept = trial;
-  for (auto& [id, pose] : kept.poses) pose = initial_poses.at(id);
-  for (auto& [id, k] : kept.intrinsics) {
-    k.values = k.initial;
-    k.stddev.setConstant(std::numeric_limits<double>::quiet_NaN());
-  }
-  const std::map<uint32_t, GlobalIntrinsics> first = trial.intrinsics;
-  double cost = TotalRobustCost(models, trial);
-  for (int k = 1; k <= options.max_relinearizations; ++k) {
-    Timer pass;
-    std::vector<LocalHessian> trial_models = models;
-    std::vector<LocalMotion> trial_frames = frames;
-    const std::vector<int> relinearized =
-        RelinearizeAt(tracks, at_solution, &shares, motions, trial, &trial_frames, &trial_models);
-    total.relinearization_seconds += pass.Seconds();
-    const double trial_cost = TotalRobustCost(trial_models, trial);
-    PGBA_LOG_INFO << "global BA re-linearisation " << k << ": robust cost " << cost << " -> " << trial_cost
-                  << (trial_cost < cost ? " (step kept)" : " (step refused: stopping at the last kept step)");
-    // An unknown starting cost (local Hessians read from an older workspace file): the first
-    // step is taken unchecked.
-    const bool unknown = !std::isfinite(cost);
-    if (!unknown && !(trial_cost < cost)) break;
-    const double decrease = unknown ? 1.0 : (cost - trial_cost) / cost;
-    // How far the step moved from the models it was solved with, in noise sigmas.
-    total.relinearization_displacement = Displacement(trial, models, relinearized, pointless);
-    models = std::move(trial_models);
-    frames = std::move(trial_frames);
-    cost = trial_cost;
-    kept = trial;
-    total.relinearizations = k;
-    if (decrease < options.relinearize_cost_tolerance ||
-        total.relinearization_displacement < options.relinearize_tolerance)
-      break;
-    trial = SolveAgain(kept.poses, frames, models, pointless, callback, gcps, &total);
-    // The last solve is taken as it is: its own check would cost one more pass, and it starts
-    // from models that a kept step just produced (the same as the unchecked re-linearisation).
-    if (k == options.max_relinearizations) kept = trial;
-  }
-  if (total.relinearizations == 0)
-    PGBA_LOG_WARN << "global BA: the re-linearised first step raised the robust reprojection cost; the initial poses "
-                     "are kept";
-  total.final_cost = kept.summary.final_cost;
-  total.robust_scale = kept.summary.robust_scale;
-  total.num_triplets_downweighted = kept.summary.num_triplets_downweighted;
-  total.misfit_ratio = kept.summary.misfit_ratio;
-  total.seconds = timer.Seconds();
-  kept.summary = total;
-  for (auto& [id, k] : kept.intrinsics) k.initial = first.at(id).initial;  // before every pass
-  return kept;
-}
-
-}  // namespace
-
-GlobalBAResult RelinearizedGlobalBA(const Reconstruction& tracks, const LocalHessianOptions& lh_options,
-                                    const std::map<uint32_t, Pose>& initial_poses,
-                                    const std::vector<LocalMotion>& motions, const std::vector<LocalHessian>& hessians,
-                                    const GlobalBAOptions& options, const GlobalBAIterationCallback& callback,
-                                    const GcpInput* gcps) {
-  if (options.relinearize_checked) {
-    GlobalBAOptions passes = options;
-    const bool self_calibrating =
-        std::any_of(hessians.begin(), hessians.end(), [](const LocalHessian& h) { return h.num_intrinsics() > 0; });
-    if (self_calibrating) passes.max_relinearizations = options.max_relinearizations_self_calibrating;
-    return CheckedRelinearization(tracks, lh_options, initial_poses, motions, hessians, passes, callback, gcps);
-  }
-  Timer timer;
-  GlobalBAOptions pointless = options;
-  pointless.weighting = TripletWeighting::kHessian;
-  GlobalBAResult result = RunGlobalBA(initial_poses, motions, hessians, pointless, callback, gcps);
-  GlobalBASummary total = result.summary;
-  const bool trigger = options.relinearize_misfit <= 0 || total.misfit_ratio > options.relinearize_misfit;
-  const std::map<uint32_t, GlobalIntrinsics> first = result.intrinsics;
-  if (options.max_relinearizations > 0 && trigger) {
-    PGBA_LOG_INFO << "global BA: misfit " << total.misfit_ratio << " (local models disagree with their consensus): "
-                  << "re-linearising the local hessians at the solution";
-    LocalHessianOptions at_solution = lh_options;
-    at_solution.max_iterations = 0;  // h and g where the solution puts the triplet, points re-triangulated
-    ObservationShares shares;
-    if (at_solution.shared_observation_weighting) shares = CountObservationShares(tracks, motions);
-    std::vector<LocalHessian> current = hessians;
-    // The motions with the local frame of each re-linearised model (its similarity from the
-    // solution), for SimilarityInit::kFromTriplet.
-    std::vector<LocalMotion> frames = motions;
-    for (int k = 1; k <= options.max_relinearizations; ++k) {
-      Timer pass;
-      const std::vector<int> relinearized =
-          RelinearizeAt(tracks, at_solution, &shares, motions, result, &frames, &current);
-      total.relinearization_seconds += pass.Seconds();
-      result = SolveAgain(result.poses, frames, current, pointless, callback, gcps, &total);
-      const GlobalBASummary& s = result.summary;
-      total.final_cost = s.final_cost;
-      total.robust_scale = s.robust_scale;
-      total.num_triplets_downweighted = s.num_triplets_downweighted;
-      total.misfit_ratio = s.misfit_ratio;
-      total.relinearizations = k;
-      total.relinearization_displacement = Displacement(result, current, relinearized, pointless);
-      PGBA_LOG_INFO << "global BA re-linearisation " << k << ": " << relinearized.size()
-                    << " local hessians at the solution, moved " << total.relinearization_displacement
-                    << " noise sigmas from them, misfit " << total.misfit_ratio;
-      if (total.relinearization_displacement < options.relinearize_tolerance) break;
-    }
-  }
-  total.seconds = timer.Seconds();
-  result.summary = total;
-  for (auto& [id, k] : result.intrinsics) k.initial = first.at(id).initial;  // before every pass
-  return result;
+  return internal::RunGlobalBA(initial_poses, motions, hessians, options, callback, gcps);
 }
 
 GlobalBAResult AveragingGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const std::vector<LocalMotion>& motions,
@@ -714,7 +491,7 @@ GlobalBAResult AveragingGlobalBA(const std::map<uint32_t, Pose>& initial_poses, 
                                  const GlobalBAIterationCallback& callback, const GcpInput* gcps) {
   GlobalBAOptions scalar = options;
   scalar.weighting = TripletWeighting::kScalar;
-  return RunGlobalBA(initial_poses, motions, hessians, scalar, callback, gcps);
+  return internal::RunGlobalBA(initial_poses, motions, hessians, scalar, callback, gcps);
 }
 
 }  // namespace pgba

@@ -173,6 +173,7 @@ Table BuildTable() {
   t["global_ba.round_tolerance"] = kNonNegative;
   t["global_ba.function_tolerance"] = kNonNegative;
   t["global_ba.parameter_tolerance"] = kNonNegative;
+  t["global_ba.initial_trust_region_radius"] = kPositive;
   t["global_ba.irls_factor"] = Unbounded();   // <= 0 disables the reweighting
   t["global_ba.huber_factor"] = Unbounded();  // <= 0 disables the Huber loss
   t["global_ba.scalar_rotation_sigma"] = kPositive;

@@ -1,0 +1,310 @@
+// Re-linearisation of the local models at the pointless solution (RelinearizedGlobalBA,
+// global_ba.h): the local Hessians re-taken where the solution puts each motion, then the
+// global BA solved again on them. With whole-track motions this is Gauss-Newton on the
+// point-based BA with the points eliminated (whole_track_motions.h): each pass costs one
+// pass over the observations (re-triangulation, Schur complement) plus one global solve.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+#include <vector>
+
+#include "modules/global_ba/global_ba.h"
+#include "modules/global_ba/global_ba_solve.h"
+#include "modules/global_ba/motion_residual.h"
+#include "modules/global_ba/motion_similarity.h"
+#include "modules/global_ba/motion_weighting.h"
+#include "pgba/optim/intrinsics.h"
+#include "pgba/optim/pose_parameterization.h"
+#include "pgba/util/logging.h"
+#include "pgba/util/timer.h"
+#include "pgba/util/upper_median.h"
+
+namespace pgba {
+
+namespace {
+
+using internal::IntrinsicSizes;
+using internal::NoiseVariance;
+using internal::RunGlobalBA;
+
+// The models in force: the motions' frames and local Hessians, index-aligned with the motions.
+// They start as the caller's vectors and are replaced by re-linearised ones without copying
+// the unchanged (a motion's h is (6N + K)^2 doubles: copying all of them each pass cost 15%
+// of the pointless BA's time on a 70-image orbit).
+class Models {
+ public:
+  Models(const std::vector<LocalMotion>& motions, const std::vector<LocalHessian>& hessians)
+      : frames_(&motions), hessians_(&hessians) {}
+  const std::vector<LocalMotion>& frames() const { return *frames_; }
+  const std::vector<LocalHessian>& hessians() const { return *hessians_; }
+
+  // The models re-taken at one solution: index into the motions, frame and local Hessian.
+  struct Retaken {
+    std::vector<int> index;
+    std::vector<LocalMotion> frames;
+    std::vector<LocalHessian> hessians;
+  };
+
+  // The re-taken models in force from now on; the others kept.
+  void Adopt(Retaken&& r) {
+    std::vector<int> slot(hessians_->size(), -1);
+    for (size_t j = 0; j < r.index.size(); ++j) slot[r.index[j]] = static_cast<int>(j);
+    std::vector<LocalMotion> frames;
+    std::vector<LocalHessian> hessians;
+    frames.reserve(slot.size());
+    hessians.reserve(slot.size());
+    for (size_t i = 0; i < slot.size(); ++i) {
+      if (slot[i] < 0) {
+        frames.push_back((*frames_)[i]);
+        hessians.push_back((*hessians_)[i]);
+      } else {
+        frames.push_back(std::move(r.frames[slot[i]]));
+        hessians.push_back(std::move(r.hessians[slot[i]]));
+      }
+    }
+    owned_frames_ = std::move(frames);
+    owned_hessians_ = std::move(hessians);
+    frames_ = &owned_frames_;
+    hessians_ = &owned_hessians_;
+  }
+
+ private:
+  const std::vector<LocalMotion>* frames_;
+  const std::vector<LocalHessian>* hessians_;
+  std::vector<LocalMotion> owned_frames_;
+  std::vector<LocalHessian> owned_hessians_;
+};
+
+// The local Hessians of `motions` re-taken where `result` puts them (points re-triangulated,
+// no local iteration): only the motions `result` used and whose Hessian came out ok.
+Models::Retaken RelinearizeAt(const Reconstruction& tracks, const LocalHessianOptions& at_solution,
+                              const ObservationShares* shares, const std::vector<LocalMotion>& motions,
+                              const GlobalBAResult& result) {
+  std::vector<LocalMotion> predicted;
+  std::vector<int> index;
+  for (size_t i = 0; i < motions.size(); ++i) {
+    if (!(result.irls_weights[i] > 0)) continue;  // not used
+    LocalMotion t = motions[i];
+    t.global_to_local = result.similarities[i];
+    for (int v = 0; v < t.num_views(); ++v) t.local_poses[v] = t.global_to_local.Apply(result.poses.at(t.image_ids[v]));
+    predicted.push_back(std::move(t));
+    index.push_back(static_cast<int>(i));
+  }
+  LocalHessianResult lr;
+  if (result.intrinsics.empty()) {
+    lr = ComputeLocalHessians(tracks, predicted, at_solution, shares);
+  } else {
+    // Self-calibration: the models re-taken with the solution's intrinsics, the same unknowns.
+    Reconstruction at = tracks;
+    FreeIntrinsics free;
+    for (const auto& [id, k] : result.intrinsics) {
+      ScatterIntrinsics(k.values, k.free, &at.cameras.at(id));
+      free[id] = k.free;
+    }
+    lr = ComputeLocalHessians(at, predicted, at_solution, shares, &free);
+  }
+  Models::Retaken r;
+  for (size_t j = 0; j < index.size(); ++j) {
+    if (lr.hessians[j].status != LocalHessianStatus::kOk) continue;  // keeps its previous model
+    r.index.push_back(index[j]);
+    r.frames.push_back(std::move(predicted[j]));
+    r.hessians.push_back(std::move(lr.hessians[j]));
+    r.hessians.back().motion_index = index[j];
+  }
+  return r;
+}
+
+// The true robust reprojection cost of the motions `used` used, from their models (the
+// re-taken one where there is one).
+double TotalRobustCost(const std::vector<LocalHessian>& models, const Models::Retaken* retaken,
+                       const GlobalBAResult& used) {
+  std::vector<const LocalHessian*> model(models.size());
+  for (size_t i = 0; i < models.size(); ++i) model[i] = &models[i];
+  if (retaken)
+    for (size_t j = 0; j < retaken->index.size(); ++j) model[retaken->index[j]] = &retaken->hessians[j];
+  double c = 0.0;
+  for (size_t i = 0; i < models.size(); ++i)
+    if (used.irls_weights[i] > 0) c += model[i]->robust_cost;
+  return c;
+}
+
+// Median over the motions `relinearized` of |W_s (x_s - x_lin_s)| / (unit_s sigma_s): how far
+// `result` moved from the linearisation points (the local poses of `hessians[i]`), in noise
+// sigmas.
+double Displacement(const GlobalBAResult& result, const std::vector<LocalHessian>& hessians,
+                    const std::vector<int>& relinearized, const GlobalBAOptions& options) {
+  std::vector<double> d;
+  for (const int i : relinearized) {
+    const LocalHessian& h = hessians[i];
+    const double v = NoiseVariance(h);
+    if (!std::isfinite(v) || !(result.irls_weights[i] > 0)) continue;
+    std::vector<PoseBlock> blocks;
+    std::vector<Pose> global;
+    std::vector<Eigen::Matrix3d> R0;
+    std::vector<const double*> x;
+    for (const uint32_t id : h.image_ids) {
+      global.push_back(result.poses.at(id));
+      blocks.push_back(PoseBlock::FromPose(global.back()));
+      R0.push_back(blocks.back().R0);
+    }
+    for (const PoseBlock& b : blocks) x.push_back(b.x.data());
+    const MotionSimilarity sim = SimilarityFromSim3(global, result.similarities[i]);
+    const MotionResidual f(R0, sim, h.local_poses, MotionWeightMatrix(h, options), Eigen::VectorXd(), h.intrinsics0,
+                           IntrinsicSizes(h));
+    std::vector<const double*> k;
+    for (const uint32_t id : h.intrinsic_camera_ids) k.push_back(result.intrinsics.at(id).values.data());
+    d.push_back(f.Evaluate(x, sim.x.data(), k).norm() / (ResidualUnit(h, options) * std::sqrt(v)));
+  }
+  return d.empty() ? 0.0 : UpperMedian(d);
+}
+
+// A re-linearised solve from `poses`, its iterations counted on after those in `total` (the
+// callback sees one continuous count) and added to it.
+GlobalBAResult SolveAgain(const std::map<uint32_t, Pose>& poses, const Models& models, const GlobalBAOptions& options,
+                          const GlobalBAIterationCallback& callback, const GcpInput* gcps, GlobalBASummary* total) {
+  const int offset = total->iterations;
+  GlobalBAIterationCallback shifted;
+  if (callback)
+    shifted = [&callback, offset](const GlobalBAIteration& it) {
+      GlobalBAIteration c = it;
+      c.iteration += offset;
+      callback(c);
+    };
+  GlobalBAResult result =
+      RunGlobalBA(poses, models.frames(), models.hessians(), options, shifted, gcps, /*report_start=*/false);
+  const GlobalBASummary& s = result.summary;
+  total->iterations += s.iterations;
+  total->rounds += s.rounds;
+  total->cost_per_iteration.insert(total->cost_per_iteration.end(), s.cost_per_iteration.begin(),
+                                   s.cost_per_iteration.end());
+  return result;
+}
+
+ObservationShares SharesOf(const Reconstruction& tracks, const std::vector<LocalMotion>& motions,
+                           const LocalHessianOptions& at_solution) {
+  return at_solution.shared_observation_weighting ? CountObservationShares(tracks, motions) : ObservationShares();
+}
+
+// GlobalBAOptions::relinearize_checked: Gauss-Newton over re-linearisation passes, each step
+// kept only if the true robust cost falls.
+GlobalBAResult CheckedRelinearization(const Reconstruction& tracks, const LocalHessianOptions& lh_options,
+                                      const std::map<uint32_t, Pose>& initial_poses,
+                                      const std::vector<LocalMotion>& motions,
+                                      const std::vector<LocalHessian>& hessians, const GlobalBAOptions& options,
+                                      const GlobalBAIterationCallback& callback, const GcpInput* gcps) {
+  Timer timer;
+  GlobalBAOptions pointless = options;
+  pointless.weighting = TripletWeighting::kHessian;
+  LocalHessianOptions at_solution = lh_options;
+  at_solution.max_iterations = 0;
+  const ObservationShares shares = SharesOf(tracks, motions, at_solution);
+
+  Models models(motions, hessians);
+  GlobalBAResult trial = RunGlobalBA(initial_poses, motions, hessians, pointless, callback, gcps);
+  GlobalBASummary total = trial.summary;
+  // The kept state: the initial poses (cost of the models taken there), then each kept step.
+  GlobalBAResult kept = trial;
+  for (auto& [id, pose] : kept.poses) pose = initial_poses.at(id);
+  for (auto& [id, k] : kept.intrinsics) {
+    k.values = k.initial;
+    k.stddev.setConstant(std::numeric_limits<double>::quiet_NaN());
+  }
+  const std::map<uint32_t, GlobalIntrinsics> first = trial.intrinsics;
+  double cost = TotalRobustCost(models.hessians(), nullptr, trial);
+  for (int k = 1; k <= options.max_relinearizations; ++k) {
+    Timer pass;
+    Models::Retaken retaken = RelinearizeAt(tracks, at_solution, &shares, motions, trial);
+    total.relinearization_seconds += pass.Seconds();
+    const double trial_cost = TotalRobustCost(models.hessians(), &retaken, trial);
+    PGBA_LOG_INFO << "global BA re-linearisation " << k << ": robust cost " << cost << " -> " << trial_cost
+                  << (trial_cost < cost ? " (step kept)" : " (step refused: stopping at the last kept step)");
+    // An unknown starting cost (local Hessians read from an older workspace file): the first
+    // step is taken unchecked.
+    const bool unknown = !std::isfinite(cost);
+    if (!unknown && !(trial_cost < cost)) break;
+    const double decrease = unknown ? 1.0 : (cost - trial_cost) / cost;
+    // How far the step moved from the models it was solved with, in noise sigmas.
+    total.relinearization_displacement = Displacement(trial, models.hessians(), retaken.index, pointless);
+    models.Adopt(std::move(retaken));
+    cost = trial_cost;
+    kept = trial;
+    total.relinearizations = k;
+    if (decrease < options.relinearize_cost_tolerance ||
+        total.relinearization_displacement < options.relinearize_tolerance)
+      break;
+    trial = SolveAgain(kept.poses, models, pointless, callback, gcps, &total);
+    // The last solve is taken as it is: its own check would cost one more pass, and it starts
+    // from models that a kept step just produced (the same as the unchecked re-linearisation).
+    if (k == options.max_relinearizations) kept = trial;
+  }
+  if (total.relinearizations == 0)
+    PGBA_LOG_WARN << "global BA: the re-linearised first step raised the robust reprojection cost; the initial poses "
+                     "are kept";
+  total.final_cost = kept.summary.final_cost;
+  total.robust_scale = kept.summary.robust_scale;
+  total.num_triplets_downweighted = kept.summary.num_triplets_downweighted;
+  total.misfit_ratio = kept.summary.misfit_ratio;
+  total.seconds = timer.Seconds();
+  kept.summary = total;
+  for (auto& [id, k] : kept.intrinsics) k.initial = first.at(id).initial;  // before every pass
+  return kept;
+}
+
+}  // namespace
+
+GlobalBAResult RelinearizedGlobalBA(const Reconstruction& tracks, const LocalHessianOptions& lh_options,
+                                    const std::map<uint32_t, Pose>& initial_poses,
+                                    const std::vector<LocalMotion>& motions, const std::vector<LocalHessian>& hessians,
+                                    const GlobalBAOptions& options, const GlobalBAIterationCallback& callback,
+                                    const GcpInput* gcps) {
+  if (options.relinearize_checked) {
+    GlobalBAOptions passes = options;
+    const bool self_calibrating =
+        std::any_of(hessians.begin(), hessians.end(), [](const LocalHessian& h) { return h.num_intrinsics() > 0; });
+    if (self_calibrating) passes.max_relinearizations = options.max_relinearizations_self_calibrating;
+    return CheckedRelinearization(tracks, lh_options, initial_poses, motions, hessians, passes, callback, gcps);
+  }
+  Timer timer;
+  GlobalBAOptions pointless = options;
+  pointless.weighting = TripletWeighting::kHessian;
+  GlobalBAResult result = RunGlobalBA(initial_poses, motions, hessians, pointless, callback, gcps);
+  GlobalBASummary total = result.summary;
+  const bool trigger = options.relinearize_misfit <= 0 || total.misfit_ratio > options.relinearize_misfit;
+  const std::map<uint32_t, GlobalIntrinsics> first = result.intrinsics;
+  if (options.max_relinearizations > 0 && trigger) {
+    PGBA_LOG_INFO << "global BA: misfit " << total.misfit_ratio << " (local models disagree with their consensus): "
+                  << "re-linearising the local hessians at the solution";
+    LocalHessianOptions at_solution = lh_options;
+    at_solution.max_iterations = 0;  // h and g where the solution puts the motion, points re-triangulated
+    const ObservationShares shares = SharesOf(tracks, motions, at_solution);
+    // The frames carry the local frame of each re-linearised model (its similarity from the
+    // solution), for SimilarityInit::kFromTriplet.
+    Models models(motions, hessians);
+    for (int k = 1; k <= options.max_relinearizations; ++k) {
+      Timer pass;
+      Models::Retaken retaken = RelinearizeAt(tracks, at_solution, &shares, motions, result);
+      const std::vector<int> relinearized = retaken.index;
+      models.Adopt(std::move(retaken));
+      total.relinearization_seconds += pass.Seconds();
+      result = SolveAgain(result.poses, models, pointless, callback, gcps, &total);
+      const GlobalBASummary& s = result.summary;
+      total.final_cost = s.final_cost;
+      total.robust_scale = s.robust_scale;
+      total.num_triplets_downweighted = s.num_triplets_downweighted;
+      total.misfit_ratio = s.misfit_ratio;
+      total.relinearizations = k;
+      total.relinearization_displacement = Displacement(result, models.hessians(), relinearized, pointless);
+      PGBA_LOG_INFO << "global BA re-linearisation " << k << ": " << relinearized.size()
+                    << " local hessians at the solution, moved " << total.relinearization_displacement
+                    << " noise sigmas from them, misfit " << total.misfit_ratio;
+      if (total.relinearization_displacement < options.relinearize_tolerance) break;
+    }
+  }
+  total.seconds = timer.Seconds();
+  result.summary = total;
+  for (auto& [id, k] : result.intrinsics) k.initial = first.at(id).initial;  // before every pass
+  return result;
+}
+
+}  // namespace pgba
