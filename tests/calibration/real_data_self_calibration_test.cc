@@ -24,6 +24,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "pgba/io/colmap_text.h"
 #include "tests/apps/cli_runner.h"
 
 namespace {
@@ -34,20 +35,12 @@ nlohmann::json ReadJson(const fs::path& path) {
   return nlohmann::json::parse(in);
 }
 
-// The first camera line of a COLMAP cameras.txt: model and parameters.
+// The first camera of a COLMAP cameras.txt (the library's reader): model name and parameters.
 std::pair<std::string, std::vector<double>> FirstCamera(const fs::path& path) {
-  std::ifstream in(path);
-  for (std::string line; std::getline(in, line);) {
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream s(line);
-    std::string id, model;
-    int w = 0, h = 0;
-    s >> id >> model >> w >> h;
-    std::vector<double> params;
-    for (double v; s >> v;) params.push_back(v);
-    return {model, params};
-  }
-  return {};
+  const auto cameras = pgba::ReadColmapCameras(path.string());
+  if (cameras.empty()) return {};
+  const pgba::Camera& c = cameras.begin()->second;
+  return {pgba::CameraModelName(c.model), c.params};
 }
 
 constexpr double kPriorRelRatio = 2.0;  // measured 1.82

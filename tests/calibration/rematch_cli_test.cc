@@ -14,24 +14,16 @@
 #include <string>
 #include <vector>
 
+#include "pgba/io/colmap_text.h"
 #include "tests/apps/cli_runner.h"
 
 namespace {
 namespace fs = std::filesystem;
 
+// The parameters of the first camera of a COLMAP cameras.txt, through the library's reader.
 std::vector<double> CameraParams(const fs::path& cameras_txt) {
-  std::ifstream in(cameras_txt);
-  for (std::string line; std::getline(in, line);) {
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream s(line);
-    std::string id, model;
-    int w = 0, h = 0;
-    s >> id >> model >> w >> h;
-    std::vector<double> p;
-    for (double v; s >> v;) p.push_back(v);
-    return p;
-  }
-  return {};
+  const auto cameras = pgba::ReadColmapCameras(cameras_txt.string());
+  return cameras.empty() ? std::vector<double>{} : cameras.begin()->second.params;
 }
 
 nlohmann::json Report(const fs::path& out) {
