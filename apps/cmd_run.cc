@@ -1,5 +1,5 @@
-// pgba run --images DIR [--calib cameras.txt] --out OUT [--config configs/X.json] [--gt GT]
-//          [--gcp GCP_FILE]
+// pgba run --images DIR [--calib cameras.txt [--calib-prior]] --out OUT [--config configs/X.json]
+//          [--gt GT] [--gcp GCP_FILE]
 //
 // The whole pipeline from a folder of calibrated photos: features, matching, global
 // initialisation, local hessians, pointless global BA. OUT is a resumable workspace (cached
@@ -27,11 +27,15 @@ void RegisterRun(CLI::App& app) {
   struct Args {
     std::string images, out, config, gt, gcp;
     CalibrationInput calib;
+    bool calib_prior = false;
   };
   auto args = std::make_shared<Args>();
   CLI::App* sub = app.add_subcommand("run", "Images -> poses and points: every stage, with report.html");
   sub->add_option("--images", args->images, "Folder of photos")->required();
   AddCalibrationOptions(sub, &args->calib);
+  sub->add_flag("--calib-prior", args->calib_prior,
+                "The calibration file is only a prior: every BA refines its focal and distortion (section "
+                "intrinsics; default: a given calibration is held)");
   sub->add_option("--out", args->out, "Output folder (also the resumable workspace)")->required();
   sub->add_option("--config", args->config, "JSON config or a preset of configs/");
   sub->add_option("--gt", args->gt, "Ground-truth COLMAP text model to evaluate the result against");
@@ -41,6 +45,7 @@ void RegisterRun(CLI::App& app) {
     namespace fs = std::filesystem;
     RunOptions options = LoadRunOptions(args->config);
     options.reconstruction.gcp_path = args->gcp;
+    options.calibration_is_prior = args->calib_prior;
     if (!args->gcp.empty()) ReadGcpFile(args->gcp);  // a malformed file fails before any work
     Reconstruction gt;
     if (!args->gt.empty()) gt = ReadColmapText(args->gt, /*points_optional=*/true);

@@ -134,6 +134,8 @@ std::string ViewGraphCalibrationOptions::Check() const {
   if (max_sweeps < 1) return "max_sweeps must be >= 1";
   if (max_pairs_per_camera < 0) return "max_pairs_per_camera must be >= 0 (0 = all)";
   if (!(max_abs_k1 > 0 && max_abs_k1 <= 1)) return "max_abs_k1 must be in (0, 1]";
+  if (!(rematch_shift_px >= 0 && std::isfinite(rematch_shift_px)))
+    return "rematch_shift_px must be a finite number >= 0 (0 = never)";
   return "";
 }
 

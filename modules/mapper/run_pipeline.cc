@@ -2,7 +2,10 @@
 
 #include <filesystem>
 
+#include "features/feature_index.h"
+#include "modules/calibration/pixel_shift.h"
 #include "pgba/io/colmap_text.h"
+#include "pgba/scene/camera.h"
 #include "pgba/util/atomic_file.h"
 #include "pgba/util/error.h"
 #include "pgba/util/input_file.h"
@@ -26,12 +29,17 @@ RunOptions LoadRunOptions(const std::string& path) {
 
 namespace {
 
-// What the tracks of a workspace were computed from: the matching options and every
-// image's feature count. Equal keys let a re-run skip matching.
+// What the tracks of a workspace were computed from: the matching options, every image's
+// feature count and the cameras (the two-view verification works on their bearings, so a
+// re-run with another calibration must match again). Equal keys let a re-run skip matching.
 nlohmann::json TracksKey(const FeatureExtractionResult& features, const MatchingOptions& options) {
   nlohmann::json images = nlohmann::json::array();
   for (const IndexedImage& im : features.index.images) images.push_back({im.name, im.num_features});
-  return {{"matching", options}, {"features", features.index.images.size()}, {"images", images}};
+  nlohmann::json cameras = nlohmann::json::array();
+  for (const auto& [id, cam] : features.index.cameras)
+    cameras.push_back({id, CameraModelName(cam.model), cam.width, cam.height, cam.params});
+  return {{"matching", options}, {"features", features.index.images.size()}, {"images", images},
+          {"cameras", cameras}};
 }
 
 // A key that is not a regular file (a FIFO would block the read forever) is an InputError
@@ -54,9 +62,9 @@ void WithCatalogCameras(const FeatureExtractionResult& features, Reconstruction*
 }
 
 Reconstruction MatchOrReuse(const FeatureExtractionResult& features, const fs::path& out,
-                            const MatchingOptions& options, Report* report) {
+                            const MatchingOptions& options, Report* report, const char* stage_name = "match") {
   const nlohmann::json key = TracksKey(features, options);
-  StageTimer timer(report, "match");
+  StageTimer timer(report, stage_name);
   if (CachedTracksValid(out, key)) {
     Reconstruction tracks = ReadColmapText((out / "tracks").string());
     WithCatalogCameras(features, &tracks);
@@ -97,10 +105,32 @@ RunOutput RunPipeline(const std::string& images_dir, const CalibrationInput& cal
     throw InputError(images_dir + ": no verified matches between the images (do they overlap?)");
 
   ReconstructionOptions reconstruction = options.reconstruction;
-  // Without a calibration file the cameras are priors (EXIF or the default focal): the
-  // default intrinsics.cameras "auto" then estimates them.
-  reconstruction.refinement.calibration_is_prior = features.calibration_source.rfind("file:", 0) != 0;
+  // Without a calibration file the cameras are priors (EXIF or the default focal), and a file
+  // given with --calib-prior is one too: the default intrinsics.cameras "auto" then estimates them.
+  reconstruction.refinement.calibration_is_prior =
+      options.calibration_is_prior || features.calibration_source.rfind("file:", 0) != 0;
+  (*report)["calibration_is_prior"] = reconstruction.refinement.calibration_is_prior;
   result.reconstruction = Reconstruct(result.tracks, reconstruction, report, /*record_convergence=*/true);
+
+  // The tracks were verified with the cameras before self-calibration; when it moved them by
+  // more than calibration.rematch_shift_px, match again with the refined cameras (written to
+  // the workspace's feature index for the matcher, then the catalog's put back) and
+  // reconstruct once more, from them. The report's stages then describe this second pass.
+  const std::map<uint32_t, Camera>& refined = result.reconstruction.refined.cameras;
+  const double rematch_px = options.reconstruction.mapper.calibration.rematch_shift_px;
+  const double shift = refined.empty() ? 0.0 : MaxPixelShift(features.index.cameras, refined);
+  if (rematch_px > 0 && shift > rematch_px) {
+    PGBA_LOG_INFO << "self-calibration moved the image by up to " << shift
+                  << " px: matching again with the refined cameras";
+    FeatureExtractionResult recalibrated = features;
+    recalibrated.index.cameras = refined;
+    for (auto& [id, cam] : recalibrated.index.cameras) cam.has_prior_focal_length = true;  // estimated now
+    WriteFeatureIndex(out, recalibrated.index);
+    result.tracks = MatchOrReuse(recalibrated, ws, options.matching, report, "match_recalibrated");
+    WriteFeatureIndex(out, features.index);
+    result.reconstruction = Reconstruct(result.tracks, reconstruction, report, /*record_convergence=*/true);
+  }
+  (*report)["rematch_shift_px"] = shift;
   WriteReconstruction(out, result.tracks, result.reconstruction);
   return result;
 }

@@ -19,6 +19,10 @@ struct RunOptions {
   FeatureExtractionOptions features;   // section "features"
   MatchingOptions matching;            // section "matching"
   ReconstructionOptions reconstruction;  // the sections of `reconstruct`
+  // `pgba run --calib-prior` (not a config key): the calibration file is only a prior (a
+  // spec-sheet focal, an old calibration), so intrinsics.cameras "auto" refines it in every
+  // BA as it does EXIF priors. Default false: a given calibration is held.
+  bool calibration_is_prior = false;
 };
 // Loads `path` (empty: defaults) against the schema of every section above. Every command
 // reads its config through this, so one preset of configs/ serves run, reconstruct and

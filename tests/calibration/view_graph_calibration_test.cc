@@ -4,6 +4,8 @@
 // the prior, and only the cameras asked for are touched.
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include <Eigen/Geometry>
 #include <random>
 
@@ -150,6 +152,14 @@ TEST(ViewGraphCalibrationOptions, CheckNamesTheKey) {
   o = {};
   o.min_pairs = 1;
   EXPECT_NE(o.Check().find("min_pairs"), std::string::npos);
+  for (double shift : {-1.0, std::numeric_limits<double>::infinity(), std::numeric_limits<double>::quiet_NaN()}) {
+    o = {};
+    o.rematch_shift_px = shift;
+    EXPECT_NE(o.Check().find("rematch_shift_px"), std::string::npos) << shift;
+  }
+  o.rematch_shift_px = 0;  // never match again
+  EXPECT_EQ(o.Check(), "");
+  o.min_pairs = 1;
   std::map<uint32_t, Camera> cams;
   EXPECT_THROW(CalibrateFocalsFromViewGraph(Reconstruction{}, {}, o, &cams), std::invalid_argument);
 }

@@ -103,6 +103,7 @@ Table BuildTable() {
   t["calibration.max_sweeps"] = kAtLeastOne;
   t["calibration.max_pairs_per_camera"] = kNonNegative;  // 0 = all
   t["calibration.max_abs_k1"] = HalfOpen(0, 1);
+  t["calibration.rematch_shift_px"] = kNonNegative;  // 0 = never
   // triplets (triplets/triplet_options.h, absolute_pose.h)
   t["triplets.max_triplets_per_image"] = kAtLeastOne;
   t["triplets.max_selection_rounds"] = kAtLeastOne;

@@ -1,0 +1,135 @@
+// Self-calibration end to end on real photographs (issue 14's real acceptance, reduced to run
+// in about a minute): herzjesu_p8 (Strecha et al. 2008, 8 DSLR photos without EXIF, ground
+// truth poses and a lab calibration), SIFT on a faster setting (config below), three `pgba
+// run`s sharing one feature cache:
+//   calibrated  --calib D/cameras.txt (held): the reference;
+//   prior       --calib a copy with fx, fy 10% long, --calib-prior (every BA refines them);
+//   uncalibrated  no calibration file at all (SIMPLE_RADIAL prior at 1.2 max(w, h) = 33% long,
+//                 focal from the view graph, focal and k refined; principal point held at the
+//                 image centre, as COLMAP does).
+// The truth is the dataset's calibration and ground truth. Rotation errors: the Sim(3)-aligned
+// median (rot_err_deg_median) and the gauge-free median over all pairs (rel_rot_err_deg_median).
+// Measured with this config (one run, 58 s on 2 loaded cores): calibrated rot err 0.1108 deg,
+// rel 0.0227; prior +10% focal -0.10%, rot err 0.1388 (1.25x), rel 0.0414 (1.82x);
+// uncalibrated focal -0.17%, rot err 0.497 (the principal point, below), rel 0.106. The
+// relative ratio of the prior is that of the dataset's calibration freed from its own values
+// (README: the data's self-calibration floor), so the tolerances sit just above the measure.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "pgba/io/colmap_text.h"
+#include "tests/apps/cli_runner.h"
+
+namespace {
+namespace fs = std::filesystem;
+
+nlohmann::json ReadJson(const fs::path& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
+// The first camera of a COLMAP cameras.txt (the library's reader): model name and parameters.
+std::pair<std::string, std::vector<double>> FirstCamera(const fs::path& path) {
+  const auto cameras = pgba::ReadColmapCameras(path.string());
+  if (cameras.empty()) return {};
+  const pgba::Camera& c = cameras.begin()->second;
+  return {pgba::CameraModelName(c.model), c.params};
+}
+
+constexpr double kPriorRelRatio = 2.0;  // measured 1.82
+
+class RealDataSelfCalibration : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    data_ = fs::path(PGBA_SHARED_DIR) / "datasets" / "herzjesu_p8";
+    if (!fs::exists(data_ / "images") || !fs::exists(data_ / "gt")) GTEST_SKIP() << "dataset missing: " << data_;
+    dir_ = fs::temp_directory_path() / ("pgba_real_selfcal_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    // The photos without their calibration beside them (`pgba run` looks for cameras.txt in
+    // the image folder and its parent): links in a folder of our own. They carry no EXIF.
+    fs::create_directories(dir_ / "photos" / "images");
+    for (const auto& entry : fs::directory_iterator(data_ / "images"))
+      fs::create_symlink(entry.path(), dir_ / "photos" / "images" / entry.path().filename());
+    std::ofstream(dir_ / "fast.json") << R"({"features": {"sift": {"max_features": 4096, "max_image_size": 1600}}})";
+  }
+  void TearDown() override {
+    if (!dir_.empty()) fs::remove_all(dir_);
+  }
+
+  // `pgba run` into dir_/NAME (features copied from the calibrated run when there is one).
+  nlohmann::json Run(const std::string& name, const std::string& calib_args) {
+    const fs::path out = dir_ / name;
+    if (fs::exists(dir_ / "calibrated" / "features")) {
+      fs::create_directories(out);
+      fs::copy(dir_ / "calibrated" / "features", out / "features", fs::copy_options::recursive);
+    }
+    const pgba::test::CliResult r =
+        pgba::test::RunPgba("-v 0 run --images " + (dir_ / "photos" / "images").string() + " " + calib_args +
+                            " --config " + (dir_ / "fast.json").string() + " --gt " + (data_ / "gt").string() +
+                            " --out " + out.string());
+    EXPECT_EQ(r.code, 0) << r.output;
+    return ReadJson(out / "report.json");
+  }
+
+  // Relative error of the refined focal(s) of dir_/NAME/sparse against the dataset's (fx, fy).
+  double FocalError(const std::string& name) {
+    const auto [model, est] = FirstCamera(dir_ / name / "sparse" / "cameras.txt");
+    const auto [gt_model, gt] = FirstCamera(data_ / "cameras.txt");  // PINHOLE fx fy cx cy
+    const double truth = 0.5 * (gt[0] + gt[1]);
+    const double focal = (model == "PINHOLE" || model == "OPENCV") ? 0.5 * (est[0] + est[1]) : est[0];
+    return focal / truth - 1.0;
+  }
+
+  fs::path data_, dir_;
+};
+
+TEST_F(RealDataSelfCalibration, HerzJesuWithoutCalibrationAndWithAWrongFocalPrior) {
+  const nlohmann::json cal = Run("calibrated", "--calib " + (data_ / "cameras.txt").string());
+  {
+    const auto [model, p] = FirstCamera(data_ / "cameras.txt");
+    ASSERT_EQ(model, "PINHOLE");
+    std::ofstream(dir_ / "cameras_long.txt") << "1 PINHOLE 3072 2048 " << 1.1 * p[0] << " " << 1.1 * p[1] << " "
+                                              << p[2] << " " << p[3] << "\n";
+  }
+  const nlohmann::json prior = Run("prior", "--calib " + (dir_ / "cameras_long.txt").string() + " --calib-prior");
+  const nlohmann::json uncal = Run("uncalibrated", "");
+  const nlohmann::json &ec = cal["evaluation"], &ep = prior["evaluation"], &eu = uncal["evaluation"];
+  auto line = [](const char* what, const nlohmann::json& e, double focal_error) {
+    std::cout << what << ": " << e["images_registered"] << "/8, focal " << 100 * focal_error << "%, rot err "
+              << e["rot_err_deg_median"] << " deg, rel rot err " << e["rel_rot_err_deg_median"] << " deg\n";
+  };
+  line("calibrated", ec, 0.0);
+  line("prior +10%", ep, FocalError("prior"));
+  line("uncalibrated", eu, FocalError("uncalibrated"));
+
+  EXPECT_FALSE(cal["calibration_is_prior"].get<bool>());
+  EXPECT_TRUE(prior["calibration_is_prior"].get<bool>());
+  EXPECT_TRUE(uncal["calibration_is_prior"].get<bool>());
+  EXPECT_EQ(uncal["stages"]["features"]["calibration_source"], "default-prior");  // no EXIF, no file
+  for (const nlohmann::json* e : {&ec, &ep, &eu}) EXPECT_EQ((*e)["images_registered"], 8);
+
+  // Issue 14's focal bar: within 1% of the dataset's calibration.
+  EXPECT_LT(std::abs(FocalError("prior")), 0.01);
+  EXPECT_LT(std::abs(FocalError("uncalibrated")), 0.01);
+
+  const double cal_rot = ec["rot_err_deg_median"], cal_rel = ec["rel_rot_err_deg_median"];
+  // The 10% prior refined: issue 14's 1.3x on the Sim(3)-aligned rotations; the gauge-free
+  // relative rotations within kPriorRelRatio (measured below).
+  EXPECT_LT(ep["rot_err_deg_median"].get<double>(), 1.3 * cal_rot);
+  EXPECT_LT(ep["rel_rot_err_deg_median"].get<double>(), kPriorRelRatio * cal_rel);
+  // Uncalibrated, the principal point stays at the image centre, (15.3, 17.2) px from the
+  // dataset's: every camera's rotation is off by that ray's angle, 0.48 deg, which no focal or
+  // k can absorb. The rotation error is bounded by the calibrated run's plus that angle.
+  const auto [gt_model, gt] = FirstCamera(data_ / "cameras.txt");
+  const double pp_angle_deg = std::atan(std::hypot(1536.0 - gt[2], 1024.0 - gt[3]) / (0.5 * (gt[0] + gt[1]))) * 180 / M_PI;
+  EXPECT_LT(eu["rot_err_deg_median"].get<double>(), cal_rot + 1.05 * pp_angle_deg);
+}
+
+}  // namespace
