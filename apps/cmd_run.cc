@@ -17,6 +17,7 @@
 #include "mapper/run_pipeline.h"
 #include "pgba/io/colmap_text.h"
 #include "pgba/io/gcp_file.h"
+#include "pgba/io/two_view_geometries.h"
 #include "pgba/util/atomic_file.h"
 #include "pgba/util/error.h"
 #include "pgba/util/logging.h"
@@ -78,6 +79,13 @@ void RegisterRun(CLI::App& app) {
     page.model = &rec.model;
     page.convergence = &rec.convergence;
     page.metrics = &metrics;
+    // The front end's verified pairs (absent when the tracks came from elsewhere).
+    ViewGraphPicture view_graph;
+    const fs::path pairs_file = out / "matching" / "two_view_geometries.txt";
+    if (fs::is_regular_file(pairs_file)) {
+      view_graph = MakeViewGraphPicture(result.tracks, ReadTwoViewGeometries(pairs_file.string()), rec.model);
+      page.view_graph = &view_graph;
+    }
     WriteStringAtomically((out / "report.html").string(), RunReportHtml(page));
     metrics.PrintTable(std::cout);
     std::cout << "pgba run: " << rec.refined.poses.size() << " / " << result.tracks.images.size()

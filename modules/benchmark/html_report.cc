@@ -101,6 +101,17 @@ std::string RunReportHtml(const HtmlReportInput& in) {
     for (const auto& n : r["images_dropped"]) names += (names.empty() ? "" : ", ") + n.get<std::string>();
     Row(h, "images dropped", names);
   }
+  if (r.contains("stages") && r["stages"].contains("features")) {
+    const nlohmann::json& f = r["stages"]["features"];
+    if (f.contains("features_mean")) Row(h, "features per image (mean)", FormatNumber("%.0f", f["features_mean"].get<double>()));
+    const nlohmann::json adapted = f.value("adapted_contrast_threshold", nlohmann::json::object());
+    if (!adapted.empty()) {
+      double lowest = 1.0;
+      for (const auto& [name, c] : adapted.items()) lowest = std::min(lowest, c.get<double>());
+      Row(h, "images with a lowered SIFT contrast threshold (too few features)",
+          std::to_string(adapted.size()) + ", down to " + FormatNumber("%.4g", lowest));
+    }
+  }
   if (in.model) {
     Row(h, "points", std::to_string(in.model->points3D.size()));
     Row(h, "observations", std::to_string(in.model->NumObservations()));
@@ -168,6 +179,13 @@ std::string RunReportHtml(const HtmlReportInput& in) {
     h << "<h2>Convergence</h2>\n" << LinePlotSvg({s}, o);
   }
   if (in.model) h << "<h2>Top view</h2><p>cameras (red, with viewing direction) and points</p>\n" << TopViewSvg(*in.model);
+  if (in.view_graph && !in.view_graph->images.empty()) {
+    const auto& im = in.view_graph->images;
+    h << "<h2>View graph</h2><p>" << in.view_graph->edges.size() << " verified pairs; images 1 ("
+      << XmlEscape(im.front().name) << ") to " << im.size() << " (" << XmlEscape(im.back().name)
+      << ") in name order, hollow red: not registered (hover for names and inliers)</p>\n"
+      << ViewGraphSvg(*in.view_graph);
+  }
   h << "<h2>Files</h2><ul><li><code>sparse/</code>: COLMAP text model</li><li><code>points.ply</code></li>"
        "<li><code>report.json</code>: every stage's record</li><li><code>log.txt</code></li></ul>\n";
   h << "</body></html>\n";

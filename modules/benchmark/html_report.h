@@ -1,13 +1,14 @@
 // report.html of `pgba run`: the page a user opens first. Self-contained (inline SVG and
 // CSS, no script, no external resource): summary table, ground-truth errors when known,
-// per-stage timings, the pointless BA's convergence plot and a top view of cameras and
-// points.
+// per-stage timings, the pointless BA's convergence plot, a top view of cameras and
+// points, and the view graph of the verified pairs.
 #pragma once
 
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include "benchmark/view_graph_svg.h"
 #include "evaluation/evaluation.h"
 #include "pgba/scene/reconstruction.h"
 
@@ -19,6 +20,7 @@ struct HtmlReportInput {
   const Reconstruction* model = nullptr;     // the final model
   const std::vector<double>* convergence = nullptr;  // sigma per iteration (may be empty)
   const EvaluationMetrics* metrics = nullptr;        // of the final model (may be null)
+  const ViewGraphPicture* view_graph = nullptr;      // the front end's verified pairs (may be null)
 };
 
 std::string RunReportHtml(const HtmlReportInput& input);

@@ -27,6 +27,7 @@ struct FileOutcome {
   int width = 0;
   int height = 0;
   int num_features = 0;
+  float contrast_threshold = 0.f;  // where detection ended (FeatureSet::contrast_threshold)
 };
 
 // The cache key: extraction options plus the source file's size and modification time.
@@ -57,6 +58,7 @@ FileOutcome ProcessFile(const fs::path& file, const std::string& feature_path, c
         r.width = cached.width;
         r.height = cached.height;
         r.num_features = static_cast<int>(cached.size());
+        r.contrast_threshold = cached.contrast_threshold;
       }
     } catch (const InputError& e) {
       *cache_warning = std::string(e.what()) + "; recomputing";
@@ -81,6 +83,7 @@ FileOutcome ProcessFile(const fs::path& file, const std::string& feature_path, c
     }
     const FeatureSet features = ExtractSift(gray, options.sift);
     r.num_features = static_cast<int>(features.size());
+    r.contrast_threshold = features.contrast_threshold;
     WriteFeatureFile(feature_path, features, key);
   } else if (r.width != camera->width || r.height != camera->height) {
     r.reason = SizeMismatch(r.width, r.height, *camera);
@@ -156,6 +159,8 @@ FeatureExtractionResult ExtractFeatures(const std::string& images_dir, const Cal
     im.num_features = o.num_features;
     im.detection_scale = DetectionScale(o.width, o.height, options.sift);
     result.index.images.push_back(im);
+    if (o.contrast_threshold < static_cast<float>(options.sift.contrast_threshold))
+      result.adapted_contrast.push_back({im.name, o.contrast_threshold});
     if (o.cached) {
       ++result.num_cached;
     } else {
@@ -186,6 +191,9 @@ nlohmann::json FeatureExtractionRecord(const FeatureExtractionResult& r) {
   long total = 0;
   for (const IndexedImage& im : r.index.images) total += im.num_features;
   if (!r.index.images.empty()) record["features_mean"] = static_cast<double>(total) / r.index.images.size();
+  nlohmann::json adapted = nlohmann::json::object();
+  for (const auto& [name, c] : r.adapted_contrast) adapted[name] = c;
+  record["adapted_contrast_threshold"] = adapted;
   return record;
 }
 

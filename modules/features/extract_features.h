@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "features/feature_index.h"
@@ -35,6 +36,9 @@ struct SkippedImage {
 struct FeatureExtractionResult {
   FeatureIndex index;                 // the accepted images (ids 1..n in name order)
   std::vector<SkippedImage> skipped;  // each also logged as a warning naming the file
+  // Images whose contrast threshold the adaptive detection lowered (SiftOptions::
+  // target_features), with the threshold they ended at, in name order.
+  std::vector<std::pair<std::string, float>> adapted_contrast;
   int num_extracted = 0;              // images processed in this run
   int num_cached = 0;                 // images whose cached features were reused
   double megapixels_extracted = 0.0;  // full-resolution megapixels of the extracted images
@@ -49,7 +53,8 @@ FeatureExtractionResult ExtractFeatures(const std::string& images_dir, const Cal
                                         const std::string& workspace, const FeatureExtractionOptions& options);
 
 // The stage's record in report.json (`pgba features` and `pgba run`): image counts, skipped
-// images with reasons, megapixels, seconds per megapixel, mean features per image.
+// images with reasons, megapixels, seconds per megapixel, mean features per image, and the
+// images whose contrast threshold was lowered (adapted_contrast_threshold: name -> threshold).
 nlohmann::json FeatureExtractionRecord(const FeatureExtractionResult& result);
 
 }  // namespace pgba

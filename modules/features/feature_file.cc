@@ -57,6 +57,7 @@ void WriteFeatureFile(const std::string& path, const FeatureSet& f, const std::s
   bytes += key;
   Put(&bytes, static_cast<int32_t>(f.width));
   Put(&bytes, static_cast<int32_t>(f.height));
+  Put(&bytes, f.contrast_threshold);
   Put(&bytes, static_cast<uint32_t>(f.keypoints.size()));
   Put(&bytes, static_cast<uint32_t>(kSiftDescriptorSize));
   static_assert(sizeof(Keypoint) == 4 * sizeof(float), "Keypoint must be 4 packed floats");
@@ -92,8 +93,9 @@ FeatureSet ReadFeatureFile(const std::string& path, std::string* key) {
   std::string stored_key(key_len, '\0');
   in.Read(stored_key.data(), key_len);
   const int32_t width = in.Get<int32_t>(), height = in.Get<int32_t>();
+  const float contrast_threshold = in.Get<float>();
   const uint32_t n = in.Get<uint32_t>(), dim = in.Get<uint32_t>();
-  if (width <= 0 || height <= 0 || n > kMaxKeypoints || dim != static_cast<uint32_t>(kSiftDescriptorSize))
+  if (width <= 0 || height <= 0 || !(contrast_threshold >= 0.f) || n > kMaxKeypoints || dim != static_cast<uint32_t>(kSiftDescriptorSize))
     ThrowInputError(path, 0, "corrupt feature file header");
   // Before allocating n keypoints: the rest of the body must hold exactly them and the trailer.
   if (static_cast<uint64_t>(n) * (sizeof(Keypoint) + dim) + sizeof(kEnd) != body - std::min(body, in.pos()))
@@ -101,6 +103,7 @@ FeatureSet ReadFeatureFile(const std::string& path, std::string* key) {
   FeatureSet f;
   f.width = width;
   f.height = height;
+  f.contrast_threshold = contrast_threshold;
   f.keypoints.resize(n);
   f.descriptors.create(static_cast<int>(n), kSiftDescriptorSize, CV_8U);
   in.Read(f.keypoints.data(), n * sizeof(Keypoint));

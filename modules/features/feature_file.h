@@ -6,6 +6,7 @@
 //   uint32   version (kFeatureFileVersion)
 //   uint32   key length, then the key bytes (extraction options + source file signature)
 //   int32    width, height (full-resolution image size)
+//   float32  the contrast threshold detection ended at (FeatureSet::contrast_threshold)
 //   uint32   number of keypoints n, descriptor size d
 //   float32  n x 4 keypoints (x, y, scale, orientation)
 //   uint8    n x d descriptors
@@ -22,7 +23,7 @@
 
 namespace pgba {
 
-constexpr uint32_t kFeatureFileVersion = 2;  // 2: checksum
+constexpr uint32_t kFeatureFileVersion = 3;  // 2: checksum, 3: contrast threshold used
 
 void WriteFeatureFile(const std::string& path, const FeatureSet& features, const std::string& key);
 

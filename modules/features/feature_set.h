@@ -22,6 +22,9 @@ struct Keypoint {
 struct FeatureSet {
   int width = 0;  // full-resolution image size
   int height = 0;
+  // The SIFT contrast threshold the detection ended at: SiftOptions::contrast_threshold, or
+  // lower where the adaptive detection (SiftOptions::target_features) lowered it.
+  float contrast_threshold = 0.f;
   std::vector<Keypoint> keypoints;
   // One row of kSiftDescriptorSize uint8 per keypoint (CV_8U); SIFT or RootSIFT quantised
   // as in COLMAP (round(512 * v), saturated at 255).

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "pgba/util/error.h"
+#include "pgba/util/text_format.h"
 
 namespace pgba {
 namespace {
@@ -42,6 +43,9 @@ double DetectionScale(int width, int height, const SiftOptions& options) {
 void ValidateSiftOptions(const SiftOptions& o) {
   if (o.first_octave != -1 && o.first_octave != 0)
     throw InputError("features.sift.first_octave = " + std::to_string(o.first_octave) + ": must be -1 or 0");
+  if (o.target_features > 0 && o.min_contrast_threshold > o.contrast_threshold)
+    throw InputError("features.sift.min_contrast_threshold = " + std::to_string(o.min_contrast_threshold) +
+                     ": must not exceed contrast_threshold (" + std::to_string(o.contrast_threshold) + ")");
 }
 
 FeatureSet ExtractSift(const cv::Mat& gray, const SiftOptions& options) {
@@ -78,11 +82,19 @@ FeatureSet ExtractSift(const cv::Mat& gray, const SiftOptions& options) {
     fy = static_cast<double>(gray.rows) / work.rows;
   }
 
-  cv::Ptr<cv::SIFT> sift =
-      cv::SIFT::create(options.max_features, 3, options.contrast_threshold, options.edge_threshold, 1.6, CV_32F);
   std::vector<cv::KeyPoint> kps;
   cv::Mat desc;
-  sift->detectAndCompute(work, cv::noArray(), kps, desc);
+  double contrast = options.contrast_threshold;
+  for (;;) {
+    cv::Ptr<cv::SIFT> sift = cv::SIFT::create(options.max_features, 3, contrast, options.edge_threshold, 1.6, CV_32F);
+    kps.clear();
+    sift->detectAndCompute(work, cv::noArray(), kps, desc);
+    if (options.target_features <= 0 || static_cast<int>(kps.size()) >= options.target_features ||
+        contrast / 2 < options.min_contrast_threshold)
+      break;
+    contrast /= 2;
+  }
+  out.contrast_threshold = static_cast<float>(contrast);
 
   // Strongest first, ties broken by position: a deterministic order independent of how
   // OpenCV's parallel detection happened to interleave.
@@ -124,7 +136,10 @@ std::string SiftOptionsKey(const SiftOptions& options) {
   std::ostringstream s;
   s << "sift1 n=" << options.max_features << " root=" << options.root_sift << " max=" << options.max_image_size
     << " c=" << options.contrast_threshold << " e=" << options.edge_threshold
-    << (options.first_octave == -1 ? "" : " o=" + std::to_string(options.first_octave));
+    << (options.first_octave == -1 ? "" : " o=" + std::to_string(options.first_octave))
+    << (options.target_features <= 0
+            ? ""
+            : " t=" + std::to_string(options.target_features) + " cmin=" + FormatNumber("%g", options.min_contrast_threshold));
   return s.str();
 }
 

@@ -32,9 +32,17 @@ struct SiftOptions {
   // on fountain_p11, README "Front end speed": 0.84 -> 0.70 of the keypoints repeated
   // under a 0.8x zoom and 15 degree rotation): an option, not the default.
   int first_octave = -1;
+  // Adaptive contrast (weakly textured or low-contrast images): when an image yields fewer
+  // than target_features keypoints, detection runs again with the contrast threshold halved,
+  // until the target is reached or the threshold would fall below min_contrast_threshold.
+  // 0 = off (the default: a textured photo reaches max_features at the fixed threshold).
+  // FeatureSet::contrast_threshold records where each image ended.
+  int target_features = 0;
+  double min_contrast_threshold = 0.0025;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(SiftOptions, max_features, root_sift, max_image_size,
-                                                contrast_threshold, edge_threshold, first_octave)
+                                                contrast_threshold, edge_threshold, first_octave, target_features,
+                                                min_contrast_threshold)
 
 // Full-resolution pixels per detection pixel for an image of this size (1 if not downscaled
 // by max_image_size; the first-octave mode does not change it).

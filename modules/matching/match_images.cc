@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <map>
 #include <set>
+#include <sstream>
 
 #include <filesystem>
 
@@ -12,9 +13,11 @@
 #include "features/feature_index.h"
 #include "pgba/io/colmap_text.h"
 #include "pgba/io/two_view_geometries.h"
+#include "pgba/util/atomic_file.h"
 #include "pgba/util/error.h"
 #include "pgba/util/logging.h"
 #include "pgba/util/progress.h"
+#include "pgba/util/text_format.h"
 #include "pgba/util/timer.h"
 
 namespace pgba {
@@ -74,6 +77,8 @@ MatchingResult MatchImages(const std::string& workspace, const MatchingOptions& 
   for (int i = 0; i < n; ++i) descriptors[i] = features[i].descriptors;
 
   ValidateDescriptorMatchOptions(options.descriptors);
+  const std::string guided_problem = options.verification.guided.Check();
+  if (!guided_problem.empty()) throw InputError("matching.verification.guided." + guided_problem);
   MatchingResult result;
   result.descriptor_method = options.descriptors.method;
   const std::vector<ImagePair> pairs = SelectPairs(descriptors, options.pairs);
@@ -84,7 +89,7 @@ MatchingResult MatchImages(const std::string& workspace, const MatchingOptions& 
   std::map<ImagePair, size_t> slot_of;
   for (size_t k = 0; k < pairs.size(); ++k) slot_of[pairs[k]] = k;
   std::vector<std::optional<VerifiedPair>> verified(pairs.size());
-  std::vector<size_t> putative(pairs.size(), 0);
+  std::vector<PairCheck> checks(pairs.size());
   // Thread time of each pair's two steps, to report where the matching time goes.
   std::vector<double> seconds_descriptors(pairs.size(), 0.0), seconds_verification(pairs.size(), 0.0);
 
@@ -119,12 +124,11 @@ MatchingResult MatchImages(const std::string& workspace, const MatchingOptions& 
       Timer pair_timer;
       const auto matches = MatchDescriptors(*forests.at(i), *forests.at(j), options.descriptors);
       seconds_descriptors[slot] = pair_timer.Seconds();
-      putative[slot] = matches.size();
       const IndexedImage& a = index.images[i];
       const IndexedImage& b = index.images[j];
-      verified[slot] = VerifyPair(a.image_id, index.cameras.at(a.camera_id), features[i].keypoints, b.image_id,
-                                  index.cameras.at(b.camera_id), features[j].keypoints, matches, options.verification,
-                                  std::max(a.detection_scale, b.detection_scale));
+      verified[slot] = VerifyPair(a.image_id, index.cameras.at(a.camera_id), features[i], b.image_id,
+                                  index.cameras.at(b.camera_id), features[j], matches, options.verification,
+                                  std::max(a.detection_scale, b.detection_scale), &checks[slot]);
       seconds_verification[slot] = pair_timer.Seconds() - seconds_descriptors[slot];
       progress.Increment();
     });
@@ -145,7 +149,8 @@ MatchingResult MatchImages(const std::string& workspace, const MatchingOptions& 
   for (size_t k = 0; k < pairs.size(); ++k) {
     result.thread_seconds_descriptors += seconds_descriptors[k];
     result.thread_seconds_verification += seconds_verification[k];
-    result.num_putative += putative[k];
+    result.num_putative += checks[k].putative;
+    result.pair_outcomes.push_back({index.images[pairs[k].first].name, index.images[pairs[k].second].name, checks[k]});
     if (!verified[k]) continue;
     result.num_verified_matches += verified[k]->inlier_matches.size();
     pair_matches.push_back(
@@ -179,6 +184,15 @@ void WriteMatchingResult(const std::string& workspace, const MatchingResult& res
   WriteColmapText(result.tracks, (ws / "tracks").string());
   std::filesystem::create_directories(ws / "matching");
   WriteTwoViewGeometries(result.two_view_geometries, (ws / "matching" / "two_view_geometries.txt").string());
+  std::ostringstream table;
+  table << "# Every selected pair's geometric verification (verdict: verified | few_matches | ransac_failed |\n"
+           "# few_inliers | low_inlier_ratio | uncertain_rotation)\n"
+           "# NAME1 NAME2 PUTATIVE INLIERS ROTATION_SD_DEG MEDIAN_TRIANGULATION_ANGLE_DEG VERDICT\n";
+  for (const PairOutcome& p : result.pair_outcomes)
+    table << p.name1 << " " << p.name2 << " " << p.check.putative << " " << p.check.inliers << " "
+          << FormatNumber("%.4g", p.check.rotation_sd_deg) << " "
+          << FormatNumber("%.3f", p.check.median_triangulation_angle_deg) << " " << p.check.verdict << "\n";
+  WriteStringAtomically((ws / "matching" / "pairs.txt").string(), table.str());
 }
 
 nlohmann::json TrackRecord(const Reconstruction& tracks, const TrackStats& st) {
@@ -203,6 +217,9 @@ nlohmann::json MatchingRecord(const MatchingResult& r) {
   }
   record["descriptor_method"] = r.descriptor_method;
   record["images_without_tracks"] = r.images_without_tracks;
+  nlohmann::json verdicts = nlohmann::json::object();
+  for (const PairOutcome& p : r.pair_outcomes) verdicts[p.check.verdict] = verdicts.value(p.check.verdict, 0) + 1;
+  record["pair_verdicts"] = verdicts;
   return record;
 }
 

@@ -33,6 +33,12 @@ struct MatchingOptions {
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(MatchingOptions, pairs, descriptors, verification, tracks,
                                                 max_indexed_images)
 
+// One selected pair's verification outcome, by image name (WS/matching/pairs.txt).
+struct PairOutcome {
+  std::string name1, name2;
+  PairCheck check;
+};
+
 struct MatchingResult {
   Reconstruction tracks;
   std::vector<TwoViewGeometry> two_view_geometries;  // verified pairs, by (image_id1, image_id2)
@@ -41,6 +47,7 @@ struct MatchingResult {
   size_t num_putative = 0;  // putative matches over all pairs
   size_t num_verified_matches = 0;
   std::vector<std::string> images_without_tracks;
+  std::vector<PairOutcome> pair_outcomes;  // every selected pair, in selection order
   double seconds = 0.0;           // wall time of the stage
   double seconds_matching = 0.0;  // wall time of descriptor matching + verification
   // Thread time summed over pairs (excluding building the per-image search structures).
@@ -53,7 +60,8 @@ struct MatchingResult {
 // images, or an unreadable feature file. Deterministic whatever the number of threads.
 MatchingResult MatchImages(const std::string& workspace, const MatchingOptions& options);
 
-// WS/tracks/ (COLMAP text model) and WS/matching/two_view_geometries.txt.
+// WS/tracks/ (COLMAP text model), WS/matching/two_view_geometries.txt and
+// WS/matching/pairs.txt (every selected pair: putative matches, inliers, rotation sd, verdict).
 void WriteMatchingResult(const std::string& workspace, const MatchingResult& result);
 
 // The stage's records in report.json (`pgba match` and `pgba run`): the tracks' counts, and

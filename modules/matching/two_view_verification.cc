@@ -1,20 +1,54 @@
 #include "matching/two_view_verification.h"
 
-namespace pgba {
+#include <algorithm>
 
-std::optional<VerifiedPair> VerifyPair(uint32_t image_id1, const Camera& camera1,
-                                       const std::vector<Keypoint>& keypoints1, uint32_t image_id2,
-                                       const Camera& camera2, const std::vector<Keypoint>& keypoints2,
-                                       const std::vector<std::pair<uint32_t, uint32_t>>& matches,
-                                       const VerificationOptions& options, double detection_scale) {
-  if (static_cast<int>(matches.size()) < std::max(options.relative_pose.min_inliers, 5)) return std::nullopt;
-  std::vector<Eigen::Vector3d> b1, b2;
-  b1.reserve(matches.size());
-  b2.reserve(matches.size());
+namespace pgba {
+namespace {
+
+std::vector<Eigen::Vector3d> Bearings(const Camera& camera, const std::vector<Keypoint>& keypoints) {
+  std::vector<Eigen::Vector3d> b;
+  b.reserve(keypoints.size());
+  for (const Keypoint& k : keypoints) b.push_back(camera.PixelToBearing(Eigen::Vector2d(k.x, k.y)));
+  return b;
+}
+
+// The correspondences' bearings, in the order of `matches`.
+void MatchBearings(const std::vector<Eigen::Vector3d>& all1, const std::vector<Eigen::Vector3d>& all2,
+                   const std::vector<std::pair<uint32_t, uint32_t>>& matches, std::vector<Eigen::Vector3d>* b1,
+                   std::vector<Eigen::Vector3d>* b2) {
+  b1->clear();
+  b2->clear();
   for (const auto& [i, j] : matches) {
-    b1.push_back(camera1.PixelToBearing(Eigen::Vector2d(keypoints1[i].x, keypoints1[i].y)));
-    b2.push_back(camera2.PixelToBearing(Eigen::Vector2d(keypoints2[j].x, keypoints2[j].y)));
+    b1->push_back(all1[i]);
+    b2->push_back(all2[j]);
   }
+}
+
+}  // namespace
+
+std::optional<VerifiedPair> VerifyPair(uint32_t image_id1, const Camera& camera1, const FeatureSet& features1,
+                                       uint32_t image_id2, const Camera& camera2, const FeatureSet& features2,
+                                       const std::vector<std::pair<uint32_t, uint32_t>>& matches,
+                                       const VerificationOptions& options, double detection_scale,
+                                       PairCheck* check) {
+  PairCheck local;
+  PairCheck& c = check ? *check : local;
+  c = PairCheck();
+  c.putative = static_cast<int>(matches.size());
+  const auto reject = [&c](const char* verdict) {
+    c.verdict = verdict;
+    return std::nullopt;
+  };
+  const GuidedMatchingOptions& guided = options.guided;
+  const int min_matches =
+      std::max(guided.enabled ? std::min(guided.min_inliers, options.relative_pose.min_inliers)
+                              : options.relative_pose.min_inliers,
+               5);
+  if (static_cast<int>(matches.size()) < min_matches) return reject("few_matches");
+  const std::vector<Eigen::Vector3d> all1 = Bearings(camera1, features1.keypoints);
+  const std::vector<Eigen::Vector3d> all2 = Bearings(camera2, features2.keypoints);
+  std::vector<Eigen::Vector3d> b1, b2;
+  MatchBearings(all1, all2, matches, &b1, &b2);
   RelativePoseOptions rp = options.relative_pose;
   rp.threshold_px *= std::max(1.0, detection_scale);
   // A per-pair seed (splitmix-style mix of the ids): reproducible, independent of order.
@@ -22,11 +56,54 @@ std::optional<VerifiedPair> VerifyPair(uint32_t image_id1, const Camera& camera1
   s = (s ^ (s >> 30)) * 0xBF58476D1CE4E5B9ULL;
   rp.seed = s ^ (s >> 31);
   const double focal = 0.5 * (camera1.MeanFocal() + camera2.MeanFocal());
-  const RelativePoseResult pose = EstimateRelativePose(b1, b2, focal, rp);
-  if (!pose.success || pose.num_inliers < rp.min_inliers ||
-      pose.num_inliers < options.min_inlier_ratio * static_cast<double>(matches.size()) ||
-      !(pose.rotation_sd_deg <= options.max_rotation_sd_deg))
+  // The guide may have fewer inliers than a verified pair needs: that is what it is for.
+  RelativePoseOptions first = rp;
+  if (guided.enabled) first.min_inliers = std::min(rp.min_inliers, guided.min_inliers);
+  RelativePoseResult pose = EstimateRelativePose(b1, b2, focal, first);
+  if (pose.num_inliers == 0) {
+    c.verdict = "ransac_failed";
     return std::nullopt;
+  }
+  // The inlier ratio is the descriptor test's own evidence: checked before guided matching
+  // adds matches that agree with the geometry by construction.
+  if (pose.num_inliers < options.min_inlier_ratio * static_cast<double>(matches.size())) {
+    c.inliers = pose.num_inliers;
+    c.rotation_sd_deg = pose.rotation_sd_deg;
+    return reject("low_inlier_ratio");
+  }
+
+  std::vector<std::pair<uint32_t, uint32_t>> used = matches;
+  if (guided.enabled && pose.num_inliers >= guided.min_inliers && pose.num_inliers < guided.max_inliers) {
+    // The putative inliers plus the guided matches (a feature keeps its putative partner).
+    std::vector<std::pair<uint32_t, uint32_t>> merged;
+    std::vector<uint8_t> taken1(features1.size(), 0), taken2(features2.size(), 0);
+    for (size_t k = 0; k < matches.size(); ++k)
+      if (pose.inlier_mask[k]) {
+        merged.push_back(matches[k]);
+        taken1[matches[k].first] = taken2[matches[k].second] = 1;
+      }
+    for (const auto& m : GuidedMatches(pose.R_21, pose.t_21, all1, features1.descriptors, all2,
+                                       features2.descriptors, focal,
+                                       guided.threshold_px * std::max(1.0, detection_scale), guided))
+      if (!taken1[m.first] && !taken2[m.second]) {
+        merged.push_back(m);
+        ++c.guided;
+      }
+    std::sort(merged.begin(), merged.end());
+    MatchBearings(all1, all2, merged, &b1, &b2);
+    RelativePoseResult again = EstimateRelativePose(b1, b2, focal, rp);
+    if (again.num_inliers > pose.num_inliers) {
+      pose = std::move(again);
+      used = std::move(merged);
+    }
+  }
+
+  c.inliers = pose.num_inliers;
+  c.rotation_sd_deg = pose.rotation_sd_deg;
+  c.median_triangulation_angle_deg = pose.median_triangulation_angle_deg;
+  if (pose.num_inliers < rp.min_inliers) return reject("few_inliers");
+  if (!(pose.rotation_sd_deg <= options.max_rotation_sd_deg)) return reject("uncertain_rotation");
+  c.verdict = "verified";
 
   VerifiedPair out;
   out.geometry.image_id1 = image_id1;
@@ -35,8 +112,8 @@ std::optional<VerifiedPair> VerifyPair(uint32_t image_id1, const Camera& camera1
   out.geometry.t_21 = pose.t_21;
   out.geometry.num_inliers = pose.num_inliers;
   out.geometry.median_triangulation_angle_deg = pose.median_triangulation_angle_deg;
-  for (size_t k = 0; k < matches.size(); ++k)
-    if (pose.inlier_mask[k]) out.inlier_matches.push_back(matches[k]);
+  for (size_t k = 0; k < used.size(); ++k)
+    if (pose.inlier_mask[k]) out.inlier_matches.push_back(used[k]);
   return out;
 }
 

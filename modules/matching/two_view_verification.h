@@ -7,10 +7,12 @@
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <string>
 #include <utility>
 #include <vector>
 
 #include "features/feature_set.h"
+#include "matching/guided_matching.h"
 #include "matching/relative_pose.h"
 #include "pgba/scene/camera.h"
 #include "pgba/scene/view_graph.h"
@@ -49,9 +51,24 @@ struct VerificationOptions {
   // 0.087), temple_sparse_ring from 24 to 22 (median 0.395 -> 0.377 deg) and fountain_p11
   // from 50 to 49 (0.045 -> 0.043 deg).
   double max_rotation_sd_deg = 1.0;
+  // Weak pairs (guided_matching.h): more matches along the first estimate's epipolar
+  // geometry, then the relative pose once more on them; the checks above apply to the result.
+  GuidedMatchingOptions guided;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(VerificationOptions, relative_pose, min_inlier_ratio,
-                                                max_rotation_sd_deg)
+                                                max_rotation_sd_deg, guided)
+
+// What verification found for one pair, verified or not: the per-pair table of the matching
+// stage (WS/matching/pairs.txt) that says where a weak image lost its pairs.
+struct PairCheck {
+  int putative = 0;
+  int guided = 0;   // matches guided matching added to the putative inliers (0 when not run)
+  int inliers = 0;  // of the final RANSAC + refinement (0 when RANSAC did not run or failed)
+  double rotation_sd_deg = 0.0;
+  double median_triangulation_angle_deg = 0.0;
+  // verified | few_matches | ransac_failed | few_inliers | low_inlier_ratio | uncertain_rotation
+  std::string verdict;
+};
 
 struct VerifiedPair {
   TwoViewGeometry geometry;  // num_tracks is filled later, once tracks exist
@@ -59,13 +76,13 @@ struct VerifiedPair {
 };
 
 // nullopt if the pair fails (too few matches or inliers, RANSAC failure). Keypoints are in
-// full-resolution pixels; `detection_scale` (full-resolution pixels per pixel of the image
+// full-resolution pixels (descriptors are read by guided matching only); `detection_scale` (full-resolution pixels per pixel of the image
 // SIFT ran on, the larger of the two images') scales the pixel threshold, since keypoint
 // noise is a fraction of a detection pixel.
-std::optional<VerifiedPair> VerifyPair(uint32_t image_id1, const Camera& camera1,
-                                       const std::vector<Keypoint>& keypoints1, uint32_t image_id2,
-                                       const Camera& camera2, const std::vector<Keypoint>& keypoints2,
+std::optional<VerifiedPair> VerifyPair(uint32_t image_id1, const Camera& camera1, const FeatureSet& features1,
+                                       uint32_t image_id2, const Camera& camera2, const FeatureSet& features2,
                                        const std::vector<std::pair<uint32_t, uint32_t>>& matches,
-                                       const VerificationOptions& options, double detection_scale = 1.0);
+                                       const VerificationOptions& options, double detection_scale = 1.0,
+                                       PairCheck* check = nullptr);
 
 }  // namespace pgba

@@ -16,17 +16,25 @@
 namespace {
 namespace fs = std::filesystem;
 
-TEST(RunRealData, TempleSparseRingEveryImageRegistered) {
-  const fs::path data = fs::path(PGBA_SHARED_DIR) / "datasets" / "temple_sparse_ring";
-  if (!fs::exists(data / "images")) GTEST_SKIP() << "dataset missing: " << data;
-  const fs::path out = fs::temp_directory_path() / ("pgba_run_temple_" + std::to_string(::getpid()));
+// `pgba run --config configs/object_ring.json --gt` on a shared dataset into a fresh OUT;
+// its report.json (null when the dataset is missing: the test skips).
+nlohmann::json RunObjectRing(const std::string& dataset, const fs::path& out) {
+  const fs::path data = fs::path(PGBA_SHARED_DIR) / "datasets" / dataset;
+  if (!fs::exists(data / "images")) return nullptr;
   fs::remove_all(out);
   const pgba::test::CliResult r = pgba::test::RunPgba(
       "-v 0 run --images " + (data / "images").string() + " --calib " + (data / "cameras.txt").string() + " --gt " +
       (data / "gt").string() + " --config " + PGBA_SOURCE_DIR "/configs/object_ring.json --out " + out.string());
-  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(r.code, 0) << r.output;
   std::ifstream in(out / "report.json");
-  const nlohmann::json report = nlohmann::json::parse(in);
+  return nlohmann::json::parse(in);
+}
+
+TEST(RunRealData, TempleSparseRingEveryImageRegistered) {
+  const fs::path out = fs::temp_directory_path() / ("pgba_run_temple_" + std::to_string(::getpid()));
+  const nlohmann::json report = RunObjectRing("temple_sparse_ring", out);
+  if (report.is_null()) GTEST_SKIP() << "temple_sparse_ring missing";
+  ASSERT_EQ(report.value("status", ""), "ok");
   const nlohmann::json& e = report["evaluation"];
   std::cout << "temple_sparse_ring: " << e["images_registered"] << "/16 registered, rotation error median "
             << e["rot_err_deg_median"] << " max " << e["rot_err_deg_max"] << " deg, centre error median "
@@ -35,6 +43,35 @@ TEST(RunRealData, TempleSparseRingEveryImageRegistered) {
   EXPECT_LT(e["rot_err_deg_median"].get<double>(), 0.5);
   EXPECT_LT(e["center_err_rel_median"].get<double>(), 0.01);
   EXPECT_GE(report["stages"]["triplets"]["open_selected"].get<int>(), 1);
+  fs::remove_all(out);
+}
+
+// Issue 18 on dino_sparse_ring (weakly textured plaster, ~230 SIFT features per image at the
+// fixed threshold, nothing registered before): the object_ring preset's adaptive contrast
+// threshold lowers the threshold of every image, the registered images (4 measured; README
+// "Weakly textured objects" says why not all 16) are within 0.3 deg of the ground truth,
+// and report.html shows the adapted images and the view graph.
+TEST(RunRealData, DinoSparseRingAdaptiveContrastRegistersAccurately) {
+  const fs::path out = fs::temp_directory_path() / ("pgba_run_dino_" + std::to_string(::getpid()));
+  const nlohmann::json report = RunObjectRing("dino_sparse_ring", out);
+  if (report.is_null()) GTEST_SKIP() << "dino_sparse_ring missing";
+  ASSERT_EQ(report.value("status", ""), "ok");
+  const nlohmann::json& e = report["evaluation"];
+  const nlohmann::json& f = report["stages"]["features"];
+  std::cout << "dino_sparse_ring: " << f["features_mean"] << " features per image, " << e["images_registered"]
+            << "/16 registered, rotation error median " << e["rot_err_deg_median"] << " max " << e["rot_err_deg_max"]
+            << " deg; pair verdicts " << report["stages"]["match"]["pair_verdicts"] << "\n";
+  EXPECT_EQ(f["adapted_contrast_threshold"].size(), 16u);
+  EXPECT_GT(f["features_mean"].get<double>(), 1000.0);
+  EXPECT_GE(e["images_registered"].get<int>(), 4);
+  EXPECT_LT(e["rot_err_deg_median"].get<double>(), 0.3);
+  EXPECT_LT(e["rot_err_deg_max"].get<double>(), 0.4);
+  EXPECT_GE(report["stages"]["match"]["pair_verdicts"].value("verified", 0), 5);
+  std::ifstream page(out / "report.html");
+  const std::string html((std::istreambuf_iterator<char>(page)), std::istreambuf_iterator<char>());
+  EXPECT_NE(html.find("<h2>View graph</h2>"), std::string::npos);
+  EXPECT_NE(html.find("lowered SIFT contrast threshold"), std::string::npos);
+  EXPECT_TRUE(fs::is_regular_file(out / "matching" / "pairs.txt"));
   fs::remove_all(out);
 }
 

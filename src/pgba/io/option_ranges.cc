@@ -58,6 +58,8 @@ Table BuildTable() {
   t["features.sift.max_image_size"] = Unbounded();  // <= 0 disables the downscaling
   t["features.sift.contrast_threshold"] = kPositive;
   t["features.sift.edge_threshold"] = kPositive;
+  t["features.sift.target_features"] = Unbounded();  // <= 0: off
+  t["features.sift.min_contrast_threshold"] = kPositive;
   t["features.sift.first_octave"] = Closed(-1, 0);  // -1: 2x upsampled (OpenCV, COLMAP default), 0: as is
   t["features.max_parallel_images"] = kNonNegative;  // 0 = one per core
   // matching (matching/*.h)
@@ -78,6 +80,11 @@ Table BuildTable() {
   AddRelativePose("matching.verification.relative_pose", &t);
   t["matching.verification.min_inlier_ratio"] = kFraction;
   t["matching.verification.max_rotation_sd_deg"] = kAngleDeg;
+  t["matching.verification.guided.max_inliers"] = kAtLeastOne;
+  t["matching.verification.guided.min_inliers"] = AtLeast(8);  // 5-point solver + 3 to choose
+  t["matching.verification.guided.threshold_px"] = kPositive;
+  t["matching.verification.guided.max_ratio"] = HalfOpen(0, 1);
+  t["matching.verification.guided.max_distance"] = kPositive;
   t["matching.tracks.min_track_length"] = AtLeast(2);
   t["matching.max_indexed_images"] = AtLeast(2);  // both images of a pair
   // pairs (triplets/view_graph.h)

@@ -1,0 +1,66 @@
+#include "benchmark/view_graph_svg.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "pgba/util/text_format.h"
+
+namespace pgba {
+
+ViewGraphPicture MakeViewGraphPicture(const Reconstruction& tracks, const std::vector<TwoViewGeometry>& pairs,
+                                      const Reconstruction& model) {
+  std::set<std::string> registered;
+  for (const auto& [id, im] : model.images) registered.insert(im.name);
+  std::map<std::string, uint32_t> by_name;
+  for (const auto& [id, im] : tracks.images) by_name[im.name] = id;
+  ViewGraphPicture g;
+  std::map<uint32_t, int> index_of;
+  for (const auto& [name, id] : by_name) {
+    index_of[id] = static_cast<int>(g.images.size());
+    g.images.push_back({name, registered.count(name) > 0});
+  }
+  for (const TwoViewGeometry& p : pairs) {
+    const auto a = index_of.find(p.image_id1), b = index_of.find(p.image_id2);
+    if (a != index_of.end() && b != index_of.end()) g.edges.push_back({a->second, b->second, p.num_inliers});
+  }
+  return g;
+}
+
+std::string ViewGraphSvg(const ViewGraphPicture& g, int size) {
+  const int n = static_cast<int>(g.images.size());
+  const double c = size / 2.0, radius = size / 2.0 - 40;
+  const auto x = [&](int i) { return c + radius * std::sin(2 * M_PI * i / std::max(n, 1)); };
+  const auto y = [&](int i) { return c - radius * std::cos(2 * M_PI * i / std::max(n, 1)); };
+  int max_inliers = 1;
+  for (const auto& e : g.edges) max_inliers = std::max(max_inliers, e.inliers);
+  std::ostringstream svg;
+  svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << size << "\" height=\"" << size
+      << "\"><rect width=\"100%\" height=\"100%\" fill=\"white\" stroke=\"#444\"/>\n";
+  for (const auto& e : g.edges) {
+    if (e.a < 0 || e.b < 0 || e.a >= n || e.b >= n) continue;
+    // Width 0.5-4 px on a log scale of the inliers: 20 and 2000 inliers both stay visible.
+    const double w = 0.5 + 3.5 * std::log1p(e.inliers) / std::log1p(max_inliers);
+    svg << "<line x1=\"" << FormatNumber("%.1f", x(e.a)) << "\" y1=\"" << FormatNumber("%.1f", y(e.a)) << "\" x2=\""
+        << FormatNumber("%.1f", x(e.b)) << "\" y2=\"" << FormatNumber("%.1f", y(e.b)) << "\" stroke=\"#1f77b4\" "
+        << "stroke-opacity=\"0.7\" stroke-width=\"" << FormatNumber("%.2f", w) << "\"><title>"
+        << XmlEscape(g.images[e.a].name + " - " + g.images[e.b].name + ": " + std::to_string(e.inliers) +
+                     " inliers")
+        << "</title></line>\n";
+  }
+  for (int i = 0; i < n; ++i) {
+    const bool r = g.images[i].registered;
+    svg << "<circle cx=\"" << FormatNumber("%.1f", x(i)) << "\" cy=\"" << FormatNumber("%.1f", y(i))
+        << "\" r=\"6\" fill=\"" << (r ? "#1f77b4" : "white") << "\" stroke=\"" << (r ? "#1f77b4" : "#d62728")
+        << "\" stroke-width=\"2\"><title>" << XmlEscape(g.images[i].name) << (r ? "" : " (not registered)")
+        << "</title></circle><text x=\"" << FormatNumber("%.1f", c + (radius + 20) * (x(i) - c) / radius)
+        << "\" y=\"" << FormatNumber("%.1f", c + (radius + 20) * (y(i) - c) / radius + 4)
+        << "\" font-size=\"10\" text-anchor=\"middle\">" << i + 1 << "</text>\n";
+  }
+  svg << "</svg>\n";
+  return svg.str();
+}
+
+}  // namespace pgba

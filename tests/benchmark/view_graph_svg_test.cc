@@ -1,0 +1,58 @@
+// The view graph picture of report.html: one circle per input image in name order (hollow
+// when not registered), one line per verified pair, drawn from the tracks model, the pairs
+// and the final model.
+#include "benchmark/view_graph_svg.h"
+
+#include <gtest/gtest.h>
+
+#include "benchmark/html_report.h"
+
+namespace pgba {
+namespace {
+
+size_t Count(const std::string& s, const std::string& what) {
+  size_t n = 0;
+  for (size_t p = s.find(what); p != std::string::npos; p = s.find(what, p + 1)) ++n;
+  return n;
+}
+
+TEST(ViewGraphSvg, ImagesInNameOrderPairsAsLinesDroppedImagesHollow) {
+  Reconstruction tracks, model;
+  // Ids out of name order: the picture follows the names.
+  const char* names[] = {"c.png", "a.png", "b.png", "d.png"};
+  for (uint32_t id = 1; id <= 4; ++id) {
+    Image im;
+    im.image_id = id;
+    im.name = names[id - 1];
+    tracks.images[id] = im;
+    if (id != 4) model.images[id] = im;  // d.png not registered
+  }
+  std::vector<TwoViewGeometry> pairs(2);
+  pairs[0].image_id1 = 2, pairs[0].image_id2 = 3, pairs[0].num_inliers = 120;  // a - b
+  pairs[1].image_id1 = 1, pairs[1].image_id2 = 4, pairs[1].num_inliers = 15;   // c - d
+  const ViewGraphPicture g = MakeViewGraphPicture(tracks, pairs, model);
+  ASSERT_EQ(g.images.size(), 4u);
+  EXPECT_EQ(g.images[0].name, "a.png");
+  EXPECT_EQ(g.images[3].name, "d.png");
+  EXPECT_FALSE(g.images[3].registered);
+  EXPECT_TRUE(g.images[0].registered);
+  ASSERT_EQ(g.edges.size(), 2u);
+  EXPECT_EQ(g.edges[0].a, 0);
+  EXPECT_EQ(g.edges[0].b, 1);
+  EXPECT_EQ(g.edges[1].a, 2);
+  EXPECT_EQ(g.edges[1].b, 3);
+
+  const std::string svg = ViewGraphSvg(g);
+  EXPECT_EQ(Count(svg, "<circle"), 4u);
+  EXPECT_EQ(Count(svg, "<line"), 2u);
+  EXPECT_EQ(Count(svg, "fill=\"white\" stroke=\"#d62728\""), 1u);  // d.png
+  EXPECT_NE(svg.find("c.png - d.png: 15 inliers"), std::string::npos);
+
+  HtmlReportInput in;
+  in.title = "t";
+  in.view_graph = &g;
+  EXPECT_NE(RunReportHtml(in).find("<h2>View graph</h2>"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace pgba
