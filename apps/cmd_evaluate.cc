@@ -3,6 +3,7 @@
 // Judges a model by the shared metrics (modules/evaluation): the tracks of INPUT
 // triangulated with MODEL's poses held fixed (sigma), pose errors against a ground-truth
 // model, loop-closure error on withheld correspondences. Images are matched by name.
+#include <filesystem>
 #include <iostream>
 #include <string>
 
@@ -36,7 +37,13 @@ void RegisterEvaluate(CLI::App& app) {
   AddCommand(app, sub, [args] {
     EvaluationOptions options;
     options.sigma.inlier_px = args->inlier_px;
-    if (!args->json.empty()) CheckOutputFile(args->json);  // a bad --json found now, not after the evaluation
+    if (!args->json.empty()) {
+      CheckOutputFile(args->json);  // a bad --json found now, not after the evaluation
+      // An earlier result there must not outlive a failed evaluation and read as this one's.
+      std::error_code ec;
+      if (std::filesystem::is_regular_file(std::filesystem::symlink_status(args->json, ec)))
+        std::filesystem::remove(args->json, ec);
+    }
 
     const Reconstruction model = ReadColmapText(args->model, /*points_optional=*/true);
     const Reconstruction obs = ReadColmapText(args->obs);

@@ -138,6 +138,12 @@ TEST_F(EvaluateCli, BadInputsExitTwoNamingTheFile) {
   r = Run((dir_ / "gt").string());  // --obs is required
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_FALSE(fs::exists(json));
+  // An earlier result at --json does not survive a failed evaluation (it would read as its result).
+  const fs::path earlier = dir_ / "earlier.json";
+  std::ofstream(earlier) << "{\"images_registered\": 10}\n";
+  r = Run((dir_ / "gt").string() + " --obs " + bad_points + " --json " + earlier.string());
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_FALSE(fs::exists(earlier));
 }
 
 // A ground truth with no image in common used to exit 0 with "0 compared", errors over no
