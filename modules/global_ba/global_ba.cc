@@ -10,14 +10,13 @@
 #include <vector>
 
 #include "modules/global_ba/gcp_residual.h"
-#include "modules/global_ba/global_ba_solve.h"
 #include "modules/global_ba/gcp_terms.h"
+#include "modules/global_ba/global_ba_solve.h"
 #include "modules/global_ba/motion_normal_equations.h"
 #include "modules/global_ba/motion_residual.h"
 #include "modules/global_ba/motion_selection.h"
 #include "modules/global_ba/motion_similarity.h"
 #include "modules/global_ba/motion_weighting.h"
-#include "pgba/optim/intrinsics.h"
 #include "pgba/optim/pose_parameterization.h"
 #include "pgba/util/error.h"
 #include "pgba/util/id_ordered_map.h"

@@ -20,8 +20,9 @@
 namespace pgba {
 
 struct GuidedMatchingOptions {
-  // Off by default: the textured sets have matches enough, and the object_ring preset,
-  // meant for weak objects, turns it on.
+  // Off by default and in the object_ring preset: the textured sets have matches enough,
+  // and on dino_sparse_ring its extra matches put pair rotations 1-5 deg off (README,
+  // "Weakly textured objects").
   bool enabled = false;
   // Only pairs whose first verification found fewer inliers than this (a dense pair gains
   // little and costs the most) and at least `min_inliers` (below that the geometry that
