@@ -192,9 +192,14 @@ TEST(SiftExtractor, RootSiftIsHellingerNormalisedAndCapped) {
     EXPECT_NEAR(root_sq, 1.0, 0.03) << i;
     // Plain SIFT is L2-normalised to 512 (then clipped), not L1: its sqrt-L1 norm differs.
     EXPECT_NEAR(std::sqrt(sq), 512.0, 30.0) << i;
+    // The stored plain value p is the float rounded: the float was in [p - 0.5, p + 0.5],
+    // so RootSIFT's is between the roots of those bounds (4 of slack for l1 being summed
+    // from rounded values; a near-zero float, stored 0, can have a root of ~5).
     for (int k = 0; k < kSiftDescriptorSize; ++k) {
-      const double expected = 512.0 * std::sqrt(plain.descriptors.at<uint8_t>(i, k) / l1);
-      EXPECT_NEAR(root.descriptors.at<uint8_t>(i, k), std::min(255.0, expected), 4.0);
+      const double p = plain.descriptors.at<uint8_t>(i, k);
+      const double lo = 512.0 * std::sqrt(std::max(0.0, p - 0.5) / l1), hi = 512.0 * std::sqrt((p + 0.5) / l1);
+      EXPECT_GE(root.descriptors.at<uint8_t>(i, k), std::min(255.0, lo) - 4.0) << i << " " << k;
+      EXPECT_LE(root.descriptors.at<uint8_t>(i, k), std::min(255.0, hi) + 4.0) << i << " " << k;
     }
   }
   // Strongest first: max_features keeps a prefix of the uncapped order.
