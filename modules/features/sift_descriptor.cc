@@ -4,6 +4,8 @@
 #include <cfloat>
 #include <cmath>
 
+#include "features/fast_atan2.h"
+
 namespace pgba {
 namespace {
 
@@ -48,8 +50,7 @@ void ComputeSiftDescriptor(const SiftScaleSpace& ss, const SiftKeypoint& kp, flo
       if (!(rbin > -1 && rbin < d && cbin > -1 && cbin < d)) continue;
       const float dx = row[c + 1] - row[c - 1];
       const float dy = up[c] - down[c];
-      float deg = std::atan2(dy, dx) * static_cast<float>(180.0 / CV_PI);
-      if (deg < 0) deg += 360.f;
+      const float deg = FastAtan2Degrees(dy, dx);
       const float mag = std::sqrt(dx * dx + dy * dy) * std::exp((c_rot * c_rot + r_rot * r_rot) * exp_scale);
       const float obin = (deg - angle) * bins_per_degree;
       const int r0 = static_cast<int>(std::floor(rbin));

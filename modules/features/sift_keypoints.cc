@@ -6,6 +6,8 @@
 #include <cfloat>
 #include <cmath>
 
+#include "features/fast_atan2.h"
+
 namespace pgba {
 namespace {
 
@@ -106,8 +108,7 @@ float OrientationHistogram(const cv::Mat& img, int x0, int y0, int radius, float
       const float dx = row[x + 1] - row[x - 1];
       const float dy = up[x] - down[x];
       const float w = std::exp((i * i + j * j) * exp_scale);
-      float deg = std::atan2(dy, dx) * static_cast<float>(180.0 / CV_PI);
-      if (deg < 0) deg += 360.f;
+      const float deg = FastAtan2Degrees(dy, dx);
       int bin = static_cast<int>(std::lround(deg * (kOrientationBins / 360.f)));
       if (bin >= kOrientationBins) bin -= kOrientationBins;
       if (bin < 0) bin += kOrientationBins;
@@ -157,9 +158,11 @@ void SearchBlock(const SiftScaleSpace& ss, const Block& b, const SiftDetectionOp
   const ptrdiff_t step = static_cast<ptrdiff_t>(cur.step1());
   // The 26 neighbours: 8 in the same layer first (most candidates fail there), then 9 + 9.
   const ptrdiff_t around[9] = {-step - 1, -step, -step + 1, -1, 0, 1, step - 1, step, step + 1};
-  // OpenCV's pre-filter, floor(0.5 * contrast / s * 255): 0 at pgba's 0.02, i.e. every
-  // non-zero extremum is refined and the contrast test after refinement decides.
-  const float pre = std::floor(0.5f * static_cast<float>(opt.contrast_threshold) / ss.layers_per_octave * 255.f);
+  // Pre-filter: samples below half the contrast threshold are not refined (OpenCV's and
+  // VLFeat's rule; refinement only moves towards larger |DoG|, so a candidate must at least
+  // double to pass). OpenCV rounds it down to whole grey levels, 0 at pgba's 0.02, and so
+  // refines every non-zero extremum: most of its extrema time, for no kept keypoint.
+  const float pre = 0.5f * static_cast<float>(opt.contrast_threshold) / ss.layers_per_octave * 255.f;
   for (int r = b.row0; r < b.row1; ++r) {
     const float* pc = cur.ptr<float>(r);
     const float* pp = prev.ptr<float>(r);
