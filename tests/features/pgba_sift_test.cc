@@ -119,6 +119,7 @@ TEST(PgbaSift, ByteIdenticalForAnyThreadCount) {
   const cv::Mat img = RealCrop();
   if (img.empty()) GTEST_SKIP() << "fountain_p11 not in shared/datasets";
   SiftOptions opt;
+  opt.implementation = "pgba";
   opt.max_features = 4000;
   const FeatureSet many = ExtractSift(img, opt);
   FeatureSet one;
@@ -139,11 +140,11 @@ TEST(PgbaSift, ByteIdenticalForAnyThreadCount) {
 
 TEST(PgbaSift, ImplementationIsValidatedAndInTheCacheKey) {
   SiftOptions o;
-  EXPECT_EQ(o.implementation, "pgba");
+  EXPECT_EQ(o.implementation, "opencv");
   o.implementation = "vlfeat";
   EXPECT_THROW(ValidateSiftOptions(o), InputError);
   SiftOptions a, b;
-  b.implementation = "opencv";
+  b.implementation = "pgba";
   EXPECT_NO_THROW(ValidateSiftOptions(b));
   EXPECT_NE(SiftOptionsKey(a), SiftOptionsKey(b));
 }

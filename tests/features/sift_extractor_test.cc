@@ -64,15 +64,17 @@ TEST(SiftExtractor, PixelCentreConventionIsColmaps) {
   cv::Mat img(64, 80, CV_8U, cv::Scalar(0));
   cv::circle(img, {40, 30}, 4, cv::Scalar(255), -1);
   cv::GaussianBlur(img, img, cv::Size(0, 0), 1.5);
-  for (int first_octave : {-1, 0}) {
-    SiftOptions opt;
-    opt.max_image_size = 0;
-    opt.first_octave = first_octave;
-    const FeatureSet f = ExtractSift(img, opt);
-    ASSERT_GE(f.size(), 1u);
-    EXPECT_NEAR(f.keypoints[0].x, 40.5, 0.05) << first_octave;
-    EXPECT_NEAR(f.keypoints[0].y, 30.5, 0.05) << first_octave;
-  }
+  for (const char* implementation : {"opencv", "pgba"})
+    for (int first_octave : {-1, 0}) {
+      SiftOptions opt;
+      opt.implementation = implementation;
+      opt.max_image_size = 0;
+      opt.first_octave = first_octave;
+      const FeatureSet f = ExtractSift(img, opt);
+      ASSERT_GE(f.size(), 1u);
+      EXPECT_NEAR(f.keypoints[0].x, 40.5, 0.05) << implementation << " " << first_octave;
+      EXPECT_NEAR(f.keypoints[0].y, 30.5, 0.05) << implementation << " " << first_octave;
+    }
   SiftOptions bad;
   bad.first_octave = 1;
   EXPECT_THROW(ExtractSift(img, bad), InputError);
@@ -99,7 +101,7 @@ double Repeatability(const FeatureSet& a, const FeatureSet& b, const cv::Matx23d
 
 TEST(SiftExtractor, RepeatabilityUnderKnownZoomAndRotation) {
   // The image and its copy rotated by 15 degrees and zoomed out 0.8x about its centre (a
-  // known similarity, the truth): the default upsampled first octave repeats more
+  // known similarity, the truth), with pgba's SIFT: the upsampled first octave repeats more
   // keypoints than starting at the image's resolution, whose finest scales are missing in
   // the zoomed-out copy; that measured cost is why first_octave 0 is only an option.
   const cv::Mat img = TexturedImage(900, 700, 4);
@@ -114,15 +116,23 @@ TEST(SiftExtractor, RepeatabilityUnderKnownZoomAndRotation) {
   double rep[2];
   for (int first_octave : {-1, 0}) {
     SiftOptions opt;
+    opt.implementation = "pgba";
     opt.max_features = 2000;
     opt.first_octave = first_octave;
     rep[first_octave + 1] = Repeatability(ExtractSift(img, opt), ExtractSift(warped, opt), A, 0.8);
   }
-  std::cout << "repeatability: first_octave -1 " << rep[0] << ", 0 " << rep[1] << std::endl;
-  // Measured: 0.83 and 0.48.
+  // The same with OpenCV's SIFT (first octave -1), the implementation pgba's replaced.
+  SiftOptions cv_opt;
+  cv_opt.max_features = 2000;
+  cv_opt.implementation = "opencv";
+  const double rep_cv = Repeatability(ExtractSift(img, cv_opt), ExtractSift(warped, cv_opt), A, 0.8);
+  std::cout << "repeatability: first_octave -1 " << rep[0] << ", 0 " << rep[1] << "; opencv " << rep_cv << std::endl;
+  // Measured (pgba's SIFT): 0.83 and 0.43; OpenCV's 0.83 (it gave 0.48 at first octave 0,
+  // through the image halved and doubled).
   EXPECT_GT(rep[0], 0.78);
-  EXPECT_GT(rep[1], 0.4);
+  EXPECT_GT(rep[1], 0.38);
   EXPECT_GT(rep[0], rep[1] + 0.25);
+  EXPECT_GE(rep[0], rep_cv - 0.005);
 }
 
 TEST(SiftExtractor, AdaptiveContrastReachesTheTargetWithRepeatableKeypoints) {
