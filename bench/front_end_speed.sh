@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # Front-end speed and accuracy, variants of pgba side by side in one run (the same moment of
 # a shared machine, so their ratios are meaningful even when absolute times are not):
-#   before   the front end of main 25ebad3: FLANN kd-forest (4 trees, 32 checks), no
+#   before   the front end of main 25ebad3: OpenCV SIFT, FLANN kd-forest (4 trees, 32 checks), no
 #            buffer reuse between images (features.reuse_buffers false)
 #   kdtree   today's defaults but the kd-forest instead of cascade hashing
-#   default  today's defaults (buffer reuse, cascade hashing)
+#   default  today's defaults (buffer reuse, cascade hashing, pgba's own SIFT)
+#   opencv   defaults + features.sift.implementation "opencv" (OpenCV 4.6's SIFT, the
+#            default before pgba's own: the same algorithm, its pyramid on one thread)
 #   octave0  defaults + features.sift.first_octave 0 (no upsampled octave: faster, fewer
 #            fine-scale keypoints; its accuracy cost is what this measures)
 # Each variant runs `pgba run --gt` from scratch (no feature cache); the variants of one
@@ -36,15 +38,16 @@ repeat=${REPEAT:-2}
 tmp=$(mktemp -d /tmp/pgba_front_speed_XXXX)
 trap 'rm -rf "$tmp"' EXIT
 echo '{"matching": {"descriptors": {"method": "kdtree"}}}' >"$tmp/kdtree.json"
-echo '{"features": {"reuse_buffers": false}, "matching": {"descriptors": {"method": "kdtree"}}}' >"$tmp/before.json"
+echo '{"features": {"reuse_buffers": false, "sift": {"implementation": "opencv"}}, "matching": {"descriptors": {"method": "kdtree"}}}' >"$tmp/before.json"
 echo '{}' >"$tmp/default.json"
+echo '{"features": {"sift": {"implementation": "opencv"}}}' >"$tmp/opencv.json"
 echo '{"features": {"sift": {"first_octave": 0}}}' >"$tmp/octave0.json"
 cp "$tmp/default.json" "$tmp/base.json"
 
 run_variant() {  # DATASET VARIANT ROUND
   local ds=$1 v=$2 round=$3 bin=$PGBA
   [[ $v == base ]] && bin=$PGBA_BASE
-  [[ -f "$tmp/$v.json" ]] || { echo "error: unknown variant '$v' (before, kdtree, default, octave0)" >&2; exit 2; }
+  [[ -f "$tmp/$v.json" ]] || { echo "error: unknown variant '$v' (before, kdtree, default, opencv, octave0)" >&2; exit 2; }
   local out="$tmp/$(basename "$ds")_${v}_$round"
   "$bin" -v 0 run --images "$ds/images" --calib "$ds/cameras.txt" --gt "$ds/gt" --config "$tmp/$v.json" \
     --out "$out" >"$out.log" 2>&1 || { echo "warning: $v on $(basename "$ds") failed: $(grep -m1 error "$out.log")" >&2; }

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <string>
 
+#include "features/pgba_sift.h"
 #include "pgba/util/error.h"
 #include "pgba/util/text_format.h"
 
@@ -41,6 +42,8 @@ double DetectionScale(int width, int height, const SiftOptions& options) {
 }
 
 void ValidateSiftOptions(const SiftOptions& o) {
+  if (o.implementation != "pgba" && o.implementation != "opencv")
+    throw InputError("features.sift.implementation = \"" + o.implementation + "\": must be \"pgba\" or \"opencv\"");
   if (o.first_octave != -1 && o.first_octave != 0)
     throw InputError("features.sift.first_octave = " + std::to_string(o.first_octave) + ": must be -1 or 0");
   if (o.target_features > 0 && o.min_contrast_threshold > o.contrast_threshold)
@@ -74,7 +77,8 @@ FeatureSet ExtractSift(const cv::Mat& gray, const SiftOptions& options) {
   // octave approximates the full image's octave 0 (blur ~1.6-1.7 px instead of 1.6: the box,
   // the bilinear doubling and OpenCV's sqrt(1.6^2 - 1^2) px; frequencies above a quarter
   // cycle per pixel, which the sigma 1.6 blur suppresses to < 5% anyway, are lost).
-  if (options.first_octave == 0) {
+  const bool own = options.implementation == "pgba";
+  if (options.first_octave == 0 && !own) {
     cv::Mat half;
     cv::resize(work, half, cv::Size((work.cols + 1) / 2, (work.rows + 1) / 2), 0, 0, cv::INTER_AREA);
     work = half;
@@ -86,9 +90,19 @@ FeatureSet ExtractSift(const cv::Mat& gray, const SiftOptions& options) {
   cv::Mat desc;
   double contrast = options.contrast_threshold;
   for (;;) {
-    cv::Ptr<cv::SIFT> sift = cv::SIFT::create(options.max_features, 3, contrast, options.edge_threshold, 1.6, CV_32F);
     kps.clear();
-    sift->detectAndCompute(work, cv::noArray(), kps, desc);
+    if (own) {
+      PgbaSiftParams params;
+      params.upsample = options.first_octave == -1;
+      params.contrast_threshold = contrast;
+      params.edge_threshold = options.edge_threshold;
+      params.max_features = options.max_features;
+      DetectAndDescribePgbaSift(work, params, &kps, &desc);
+    } else {
+      cv::Ptr<cv::SIFT> sift =
+          cv::SIFT::create(options.max_features, 3, contrast, options.edge_threshold, 1.6, CV_32F);
+      sift->detectAndCompute(work, cv::noArray(), kps, desc);
+    }
     if (options.target_features <= 0 || static_cast<int>(kps.size()) >= options.target_features ||
         contrast / 2 < options.min_contrast_threshold)
       break;
@@ -115,6 +129,8 @@ FeatureSet ExtractSift(const cv::Mat& gray, const SiftOptions& options) {
   out.keypoints.resize(order.size());
   out.descriptors.create(static_cast<int>(order.size()), kSiftDescriptorSize, CV_8U);
   const double mean_f = 0.5 * (fx + fy);
+  // Both implementations double the image the same way; pgba's without doubling has no bias.
+  const double bias = own && options.first_octave == 0 ? 0.0 : kOpenCvUpsampleBias;
   for (size_t i = 0; i < order.size(); ++i) {
     const cv::KeyPoint& kp = kps[order[i]];
     Keypoint& k = out.keypoints[i];
@@ -123,8 +139,8 @@ FeatureSet ExtractSift(const cv::Mat& gray, const SiftOptions& options) {
     // detects on a 2x upsampled image (INTER_LINEAR_EXACT: upsampled pixel u samples the
     // input at u/2 - 0.25) but maps keypoints back with u/2 alone, a +0.25 px bias that
     // is removed here (kOpenCvUpsampleBias; the unit test locates a blob to 0.05 px).
-    k.x = static_cast<float>((kp.pt.x - kOpenCvUpsampleBias + 0.5) * fx);
-    k.y = static_cast<float>((kp.pt.y - kOpenCvUpsampleBias + 0.5) * fy);
+    k.x = static_cast<float>((kp.pt.x - bias + 0.5) * fx);
+    k.y = static_cast<float>((kp.pt.y - bias + 0.5) * fy);
     k.scale = static_cast<float>(0.5 * kp.size * mean_f);
     k.orientation = static_cast<float>(kp.angle * CV_PI / 180.0);
     QuantiseRow(desc.ptr<float>(order[i]), options.root_sift, out.descriptors.ptr<uint8_t>(static_cast<int>(i)));
@@ -134,7 +150,8 @@ FeatureSet ExtractSift(const cv::Mat& gray, const SiftOptions& options) {
 
 std::string SiftOptionsKey(const SiftOptions& options) {
   std::ostringstream s;
-  s << "sift1 n=" << options.max_features << " root=" << options.root_sift << " max=" << options.max_image_size
+  // The OpenCV implementation keeps the key it always had (its caches stay valid).
+  s << "sift1" << (options.implementation == "opencv" ? "" : " impl=" + options.implementation) << " n=" << options.max_features << " root=" << options.root_sift << " max=" << options.max_image_size
     << " c=" << options.contrast_threshold << " e=" << options.edge_threshold
     << (options.first_octave == -1 ? "" : " o=" + std::to_string(options.first_octave))
     << (options.target_features <= 0

@@ -1,6 +1,7 @@
-// SIFT detection and description with OpenCV (cv::SIFT), with the options a photogrammetric
-// front end needs: a cap on the number of features, RootSIFT (Arandjelovic & Zisserman 2012:
-// Hellinger kernel = L2 on sqrt of L1-normalised SIFT) and downscaling of very large images.
+// SIFT detection and description, pgba's own (pgba_sift.h) or OpenCV's (cv::SIFT), with the
+// options a photogrammetric front end needs: a cap on the number of features, RootSIFT
+// (Arandjelovic & Zisserman 2012: Hellinger kernel = L2 on sqrt of L1-normalised SIFT) and
+// downscaling of very large images.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -12,6 +13,12 @@
 namespace pgba {
 
 struct SiftOptions {
+  // Which SIFT: "opencv" (cv::SIFT of OpenCV 4.6, which builds its pyramid on one thread)
+  // or "pgba" (pgba_sift.h: the same algorithm with the pyramid, the extrema and the
+  // descriptors parallel inside one image). OpenCV's is the default by measurement: on the
+  // loaded 2-core machine, with images already in parallel, pgba's took 1.0-1.75x its time
+  // per image (README "Measured: front-end speed (issue 16)").
+  std::string implementation = "opencv";
   // Keep at most this many keypoints (the strongest responses); COLMAP's default.
   int max_features = 8192;
   // RootSIFT descriptors (better matching at no cost); false gives plain SIFT.
@@ -26,7 +33,8 @@ struct SiftOptions {
   double contrast_threshold = 0.02;
   double edge_threshold = 10.0;
   // Where the scale space starts (COLMAP's first_octave): -1 on a 2x upsampled copy of the
-  // image (OpenCV's only mode, COLMAP's default), 0 at the image's own resolution. 0 skips
+  // image (OpenCV 4.6's only mode, COLMAP's default), 0 at the image's own resolution (pgba's
+  // implementation starts there directly, OpenCV's on the image halved then doubled). 0 skips
   // the octave that holds 3/4 of the pyramid's pixels, ~8x less time on a 6 MP photo, but
   // it loses the finest scales and with them repeatability under scale change (measured
   // on fountain_p11, README "Front end speed": 0.84 -> 0.70 of the keypoints repeated
@@ -40,7 +48,7 @@ struct SiftOptions {
   int target_features = 0;
   double min_contrast_threshold = 0.0025;
 };
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(SiftOptions, max_features, root_sift, max_image_size,
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(SiftOptions, implementation, max_features, root_sift, max_image_size,
                                                 contrast_threshold, edge_threshold, first_octave, target_features,
                                                 min_contrast_threshold)
 

@@ -1,0 +1,103 @@
+#include "features/sift_descriptor.h"
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+
+#include "features/fast_atan2.h"
+
+namespace pgba {
+namespace {
+
+constexpr float kCellWidth = 3.f;    // one cell spans 3 keypoint sigmas
+constexpr float kClip = 0.2f;        // Lowe's clipping of large gradient bins
+constexpr float kOutputNorm = 512.f;
+
+}  // namespace
+
+void ComputeSiftDescriptor(const SiftScaleSpace& ss, const SiftKeypoint& kp, float* out) {
+  constexpr int d = kSiftCells, n = kSiftOrientations;
+  const cv::Mat& img = ss.gaussians[kp.octave][kp.layer];
+  const int px = static_cast<int>(std::lround(kp.x)), py = static_cast<int>(std::lround(kp.y));
+  // The window rotates with the keypoint; kp.angle is OpenCV's (360 - gradient angle).
+  float angle = 360.f - kp.angle;
+  if (std::abs(angle - 360.f) < FLT_EPSILON) angle = 0.f;
+  const float rad = angle * static_cast<float>(CV_PI / 180.0);
+  const float hist_width = kCellWidth * kp.sigma;
+  int radius = static_cast<int>(std::lround(hist_width * 1.4142135623730951f * (d + 1) * 0.5f));
+  radius = std::min(radius, static_cast<int>(std::sqrt(double(img.cols) * img.cols + double(img.rows) * img.rows)));
+  const float cos_t = std::cos(rad) / hist_width, sin_t = std::sin(rad) / hist_width;
+  const float bins_per_degree = n / 360.f;
+  const float exp_scale = -1.f / (d * d * 0.5f);
+
+  // (d+2) x (d+2) x (n+2): one cell of margin on each side and two wrap bins, so the
+  // trilinear spread never needs a bounds test.
+  float hist[(d + 2) * (d + 2) * (n + 2)] = {};
+  for (int i = -radius; i <= radius; ++i) {
+    const int r = py + i;
+    if (r <= 0 || r >= img.rows - 1) continue;
+    const float* row = img.ptr<float>(r);
+    const float* up = img.ptr<float>(r - 1);
+    const float* down = img.ptr<float>(r + 1);
+    for (int j = -radius; j <= radius; ++j) {
+      const int c = px + j;
+      if (c <= 0 || c >= img.cols - 1) continue;
+      // Sample position in cell units of the rotated window, cell centres at integers.
+      const float c_rot = j * cos_t - i * sin_t;
+      const float r_rot = j * sin_t + i * cos_t;
+      const float rbin = r_rot + d / 2 - 0.5f;
+      const float cbin = c_rot + d / 2 - 0.5f;
+      if (!(rbin > -1 && rbin < d && cbin > -1 && cbin < d)) continue;
+      const float dx = row[c + 1] - row[c - 1];
+      const float dy = up[c] - down[c];
+      const float deg = FastAtan2Degrees(dy, dx);
+      const float mag = std::sqrt(dx * dx + dy * dy) * std::exp((c_rot * c_rot + r_rot * r_rot) * exp_scale);
+      const float obin = (deg - angle) * bins_per_degree;
+      const int r0 = static_cast<int>(std::floor(rbin));
+      const int c0 = static_cast<int>(std::floor(cbin));
+      int o0 = static_cast<int>(std::floor(obin));
+      const float fr = rbin - r0, fc = cbin - c0, fo = obin - o0;
+      if (o0 < 0) o0 += n;
+      if (o0 >= n) o0 -= n;
+      // Trilinear split of the weighted magnitude over the 8 neighbouring bins.
+      const float v_r1 = mag * fr, v_r0 = mag - v_r1;
+      const float v_rc11 = v_r1 * fc, v_rc10 = v_r1 - v_rc11;
+      const float v_rc01 = v_r0 * fc, v_rc00 = v_r0 - v_rc01;
+      const float v_rco111 = v_rc11 * fo, v_rco110 = v_rc11 - v_rco111;
+      const float v_rco101 = v_rc10 * fo, v_rco100 = v_rc10 - v_rco101;
+      const float v_rco011 = v_rc01 * fo, v_rco010 = v_rc01 - v_rco011;
+      const float v_rco001 = v_rc00 * fo, v_rco000 = v_rc00 - v_rco001;
+      const int idx = ((r0 + 1) * (d + 2) + c0 + 1) * (n + 2) + o0;
+      hist[idx] += v_rco000;
+      hist[idx + 1] += v_rco001;
+      hist[idx + (n + 2)] += v_rco010;
+      hist[idx + (n + 3)] += v_rco011;
+      hist[idx + (d + 2) * (n + 2)] += v_rco100;
+      hist[idx + (d + 2) * (n + 2) + 1] += v_rco101;
+      hist[idx + (d + 3) * (n + 2)] += v_rco110;
+      hist[idx + (d + 3) * (n + 2) + 1] += v_rco111;
+    }
+  }
+  // Fold the wrap bins (orientation is circular) and drop the spatial margin.
+  for (int i = 0; i < d; ++i)
+    for (int j = 0; j < d; ++j) {
+      const int idx = ((i + 1) * (d + 2) + (j + 1)) * (n + 2);
+      hist[idx] += hist[idx + n];
+      hist[idx + 1] += hist[idx + n + 1];
+      for (int k = 0; k < n; ++k) out[(i * d + j) * n + k] = hist[idx + k];
+    }
+  // Normalise, clip (robustness to non-linear illumination), normalise again.
+  const int len = d * d * n;
+  float norm2 = 0;
+  for (int k = 0; k < len; ++k) norm2 += out[k] * out[k];
+  const float clip = std::sqrt(norm2) * kClip;
+  norm2 = 0;
+  for (int k = 0; k < len; ++k) {
+    out[k] = std::min(out[k], clip);
+    norm2 += out[k] * out[k];
+  }
+  const float scale = kOutputNorm / std::max(std::sqrt(norm2), FLT_EPSILON);
+  for (int k = 0; k < len; ++k) out[k] *= scale;
+}
+
+}  // namespace pgba

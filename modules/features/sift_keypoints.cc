@@ -1,0 +1,209 @@
+#include "features/sift_keypoints.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+
+#include "features/fast_atan2.h"
+
+namespace pgba {
+namespace {
+
+constexpr int kBorder = 5;             // no extrema this close to an octave's edge
+constexpr int kMaxRefineSteps = 5;     // Newton steps before an extremum is given up
+constexpr int kOrientationBins = 36;
+constexpr float kOrientationRadius = 4.5f;  // window radius, in units of the keypoint sigma
+constexpr float kOrientationSigma = 1.5f;   // Gaussian weight of the window, same units
+constexpr float kPeakRatio = 0.8f;          // secondary orientations above this x the maximum
+constexpr int kBlockRows = 32;              // rows per search task (fixed: the output order)
+constexpr float kGreyScale = 1.f / 255.f;   // DoG values are in grey levels 0..255
+
+struct Block {
+  int octave, layer, row0, row1;
+};
+
+// Newton refinement of an extremum at (layer, r, c) of octave o; on success fills kp and
+// leaves r, c at the integer sample the refinement ended on.
+bool Refine(const SiftScaleSpace& ss, int o, int layer, int& r, int& c, const SiftDetectionOptions& opt,
+            SiftKeypoint* kp) {
+  const int s = ss.layers_per_octave;
+  const std::vector<cv::Mat>& dog = ss.dogs[o];
+  const int rows = dog[0].rows, cols = dog[0].cols;
+  const float ds = 0.5f * kGreyScale, dss = kGreyScale, dcs = 0.25f * kGreyScale;
+  float xi = 0, xr = 0, xc = 0;
+  int step = 0;
+  for (; step < kMaxRefineSteps; ++step) {
+    const cv::Mat &img = dog[layer], &prev = dog[layer - 1], &next = dog[layer + 1];
+    auto at = [](const cv::Mat& m, int y, int x) { return m.ptr<float>(y)[x]; };
+    const float v2 = 2 * at(img, r, c);
+    const float gx = (at(img, r, c + 1) - at(img, r, c - 1)) * ds;
+    const float gy = (at(img, r + 1, c) - at(img, r - 1, c)) * ds;
+    const float gs = (at(next, r, c) - at(prev, r, c)) * ds;
+    const float hxx = (at(img, r, c + 1) + at(img, r, c - 1) - v2) * dss;
+    const float hyy = (at(img, r + 1, c) + at(img, r - 1, c) - v2) * dss;
+    const float hss = (at(next, r, c) + at(prev, r, c) - v2) * dss;
+    const float hxy =
+        (at(img, r + 1, c + 1) - at(img, r + 1, c - 1) - at(img, r - 1, c + 1) + at(img, r - 1, c - 1)) * dcs;
+    const float hxs =
+        (at(next, r, c + 1) - at(next, r, c - 1) - at(prev, r, c + 1) + at(prev, r, c - 1)) * dcs;
+    const float hys =
+        (at(next, r + 1, c) - at(next, r - 1, c) - at(prev, r + 1, c) + at(prev, r - 1, c)) * dcs;
+    const cv::Matx33f H(hxx, hxy, hxs, hxy, hyy, hys, hxs, hys, hss);
+    const cv::Vec3f X = H.solve(cv::Vec3f(gx, gy, gs), cv::DECOMP_LU);
+    xc = -X[0];
+    xr = -X[1];
+    xi = -X[2];
+    if (std::abs(xi) < 0.5f && std::abs(xr) < 0.5f && std::abs(xc) < 0.5f) break;
+    if (std::abs(xi) > 1e6f || std::abs(xr) > 1e6f || std::abs(xc) > 1e6f) return false;
+    c += static_cast<int>(std::lround(xc));
+    r += static_cast<int>(std::lround(xr));
+    layer += static_cast<int>(std::lround(xi));
+    if (layer < 1 || layer > s || c < kBorder || c >= cols - kBorder || r < kBorder || r >= rows - kBorder)
+      return false;
+  }
+  if (step >= kMaxRefineSteps) return false;
+
+  const cv::Mat &img = dog[layer], &prev = dog[layer - 1], &next = dog[layer + 1];
+  auto at = [](const cv::Mat& m, int y, int x) { return m.ptr<float>(y)[x]; };
+  const float gx = (at(img, r, c + 1) - at(img, r, c - 1)) * ds;
+  const float gy = (at(img, r + 1, c) - at(img, r - 1, c)) * ds;
+  const float gs = (at(next, r, c) - at(prev, r, c)) * ds;
+  const float contrast = at(img, r, c) * kGreyScale + 0.5f * (gx * xc + gy * xr + gs * xi);
+  if (std::abs(contrast) * s < opt.contrast_threshold) return false;
+  // Edge response: an edge has one large and one small principal curvature.
+  const float v2 = 2 * at(img, r, c);
+  const float hxx = (at(img, r, c + 1) + at(img, r, c - 1) - v2) * dss;
+  const float hyy = (at(img, r + 1, c) + at(img, r - 1, c) - v2) * dss;
+  const float hxy = (at(img, r + 1, c + 1) - at(img, r + 1, c - 1) - at(img, r - 1, c + 1) + at(img, r - 1, c - 1)) * dcs;
+  const float tr = hxx + hyy, det = hxx * hyy - hxy * hxy;
+  const float e = static_cast<float>(opt.edge_threshold);
+  if (det <= 0 || tr * tr * e >= (e + 1) * (e + 1) * det) return false;
+
+  kp->octave = o;
+  kp->layer = layer;
+  kp->x = c + xc;
+  kp->y = r + xr;
+  kp->sigma = static_cast<float>(ss.sigma * std::pow(2.0f, (layer + xi) / s));
+  kp->response = std::abs(contrast);
+  return true;
+}
+
+// Smoothed 36-bin histogram of gradient directions around (x, y) of a Gaussian layer,
+// weighted by magnitude and a Gaussian window; returns its maximum.
+float OrientationHistogram(const cv::Mat& img, int x0, int y0, int radius, float sigma, float* hist) {
+  float raw[kOrientationBins + 4] = {};
+  float* h = raw + 2;
+  const float exp_scale = -1.f / (2.f * sigma * sigma);
+  for (int i = -radius; i <= radius; ++i) {
+    const int y = y0 + i;
+    if (y <= 0 || y >= img.rows - 1) continue;
+    const float* row = img.ptr<float>(y);
+    const float* up = img.ptr<float>(y - 1);
+    const float* down = img.ptr<float>(y + 1);
+    for (int j = -radius; j <= radius; ++j) {
+      const int x = x0 + j;
+      if (x <= 0 || x >= img.cols - 1) continue;
+      const float dx = row[x + 1] - row[x - 1];
+      const float dy = up[x] - down[x];
+      const float w = std::exp((i * i + j * j) * exp_scale);
+      const float deg = FastAtan2Degrees(dy, dx);
+      int bin = static_cast<int>(std::lround(deg * (kOrientationBins / 360.f)));
+      if (bin >= kOrientationBins) bin -= kOrientationBins;
+      if (bin < 0) bin += kOrientationBins;
+      h[bin] += w * std::sqrt(dx * dx + dy * dy);
+    }
+  }
+  // Circular [1 4 6 4 1] / 16 smoothing.
+  h[-1] = h[kOrientationBins - 1];
+  h[-2] = h[kOrientationBins - 2];
+  h[kOrientationBins] = h[0];
+  h[kOrientationBins + 1] = h[1];
+  float best = 0;
+  for (int b = 0; b < kOrientationBins; ++b) {
+    hist[b] = (h[b - 2] + h[b + 2]) * (1.f / 16) + (h[b - 1] + h[b + 1]) * (4.f / 16) + h[b] * (6.f / 16);
+    best = std::max(best, hist[b]);
+  }
+  return best;
+}
+
+// The keypoint once per dominant orientation (parabolic peak interpolation).
+void AddOriented(const SiftScaleSpace& ss, const SiftKeypoint& kp, int r, int c, std::vector<SiftKeypoint>* out) {
+  float hist[kOrientationBins];
+  const cv::Mat& img = ss.gaussians[kp.octave][kp.layer];
+  const float best = OrientationHistogram(img, c, r, static_cast<int>(std::lround(kOrientationRadius * kp.sigma)),
+                                          kOrientationSigma * kp.sigma, hist);
+  const float threshold = best * kPeakRatio;
+  for (int j = 0; j < kOrientationBins; ++j) {
+    const int l = j > 0 ? j - 1 : kOrientationBins - 1;
+    const int rt = j < kOrientationBins - 1 ? j + 1 : 0;
+    if (hist[j] > hist[l] && hist[j] > hist[rt] && hist[j] >= threshold) {
+      float bin = j + 0.5f * (hist[l] - hist[rt]) / (hist[l] - 2 * hist[j] + hist[rt]);
+      bin = bin < 0 ? kOrientationBins + bin : bin >= kOrientationBins ? bin - kOrientationBins : bin;
+      SiftKeypoint o = kp;
+      o.angle = 360.f - (360.f / kOrientationBins) * bin;
+      if (std::abs(o.angle - 360.f) < FLT_EPSILON) o.angle = 0.f;
+      out->push_back(o);
+    }
+  }
+}
+
+// Extrema of one block of rows of DoG layer `layer` (1..s) of octave o.
+void SearchBlock(const SiftScaleSpace& ss, const Block& b, const SiftDetectionOptions& opt,
+                 std::vector<SiftKeypoint>* out) {
+  const std::vector<cv::Mat>& dog = ss.dogs[b.octave];
+  const cv::Mat &cur = dog[b.layer], &prev = dog[b.layer - 1], &next = dog[b.layer + 1];
+  const int cols = cur.cols;
+  const ptrdiff_t step = static_cast<ptrdiff_t>(cur.step1());
+  // The 26 neighbours: 8 in the same layer first (most candidates fail there), then 9 + 9.
+  const ptrdiff_t around[9] = {-step - 1, -step, -step + 1, -1, 0, 1, step - 1, step, step + 1};
+  // Pre-filter: samples below half the contrast threshold are not refined (OpenCV's and
+  // VLFeat's rule; refinement only moves towards larger |DoG|, so a candidate must at least
+  // double to pass). OpenCV rounds it down to whole grey levels, 0 at pgba's 0.02, and so
+  // refines every non-zero extremum: most of its extrema time, for no kept keypoint.
+  const float pre = 0.5f * static_cast<float>(opt.contrast_threshold) / ss.layers_per_octave * 255.f;
+  for (int r = b.row0; r < b.row1; ++r) {
+    const float* pc = cur.ptr<float>(r);
+    const float* pp = prev.ptr<float>(r);
+    const float* pn = next.ptr<float>(r);
+    for (int c = kBorder; c < cols - kBorder; ++c) {
+      const float v = pc[c];
+      if (!(std::abs(v) > pre)) continue;
+      bool extremum = true;
+      if (v > 0) {
+        for (int k = 0; k < 9 && extremum; ++k) extremum = (k == 4 || v >= pc[c + around[k]]);
+        for (int k = 0; k < 9 && extremum; ++k) extremum = v >= pp[c + around[k]] && v >= pn[c + around[k]];
+      } else {
+        for (int k = 0; k < 9 && extremum; ++k) extremum = (k == 4 || v <= pc[c + around[k]]);
+        for (int k = 0; k < 9 && extremum; ++k) extremum = v <= pp[c + around[k]] && v <= pn[c + around[k]];
+      }
+      if (!extremum) continue;
+      SiftKeypoint kp;
+      int rr = r, rc = c;
+      if (!Refine(ss, b.octave, b.layer, rr, rc, opt, &kp)) continue;
+      // Orientation at the integer sample and layer where the refinement ended.
+      AddOriented(ss, kp, rr, rc, out);
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<SiftKeypoint> DetectSiftKeypoints(const SiftScaleSpace& ss, const SiftDetectionOptions& options) {
+  std::vector<Block> blocks;
+  for (int o = 0; o < ss.num_octaves(); ++o) {
+    const int rows = ss.dogs[o][0].rows, cols = ss.dogs[o][0].cols;
+    if (rows <= 2 * kBorder || cols <= 2 * kBorder) continue;
+    for (int layer = 1; layer <= ss.layers_per_octave; ++layer)
+      for (int r = kBorder; r < rows - kBorder; r += kBlockRows)
+        blocks.push_back({o, layer, r, std::min(r + kBlockRows, rows - kBorder)});
+  }
+  std::vector<std::vector<SiftKeypoint>> found(blocks.size());
+  tbb::parallel_for(size_t(0), blocks.size(), [&](size_t i) { SearchBlock(ss, blocks[i], options, &found[i]); });
+  std::vector<SiftKeypoint> all;
+  for (const auto& f : found) all.insert(all.end(), f.begin(), f.end());
+  return all;
+}
+
+}  // namespace pgba

@@ -1,0 +1,34 @@
+// SIFT keypoints in a scale space (Lowe 2004, as OpenCV and VLFeat implement it): extrema
+// of the DoG over their 26 neighbours, refined to sub-pixel and sub-scale by Newton steps on
+// the quadratic fit, rejected on low contrast and on edges (ratio of principal curvatures),
+// and one keypoint per dominant gradient orientation (36-bin histogram, peaks >= 0.8 max).
+#pragma once
+
+#include <vector>
+
+#include "features/sift_scale_space.h"
+
+namespace pgba {
+
+struct SiftKeypoint {
+  int octave = 0;      // index into SiftScaleSpace::gaussians
+  int layer = 0;       // Gaussian layer the refined extremum belongs to (1..s)
+  float x = 0, y = 0;  // refined position in the octave's pixels (centres at integers)
+  float sigma = 0;     // refined scale in the octave's pixels: sigma 2^((layer + ds) / s)
+  float response = 0;  // |interpolated DoG| on the 0..1 grey scale
+  // OpenCV's angle convention, degrees in [0, 360): 360 minus the gradient direction of the
+  // image with y down, so feature files stay comparable with the OpenCV implementation.
+  float angle = 0;
+};
+
+struct SiftDetectionOptions {
+  double contrast_threshold = 0.02;  // on |DoG| * layers_per_octave, grey levels 0..1
+  double edge_threshold = 10.0;      // maximal ratio of principal curvatures
+};
+
+// Keypoints in a deterministic order (octave, layer, row, column, orientation peak),
+// whatever the number of threads: the search runs in parallel over fixed blocks of rows
+// whose results are concatenated in block order.
+std::vector<SiftKeypoint> DetectSiftKeypoints(const SiftScaleSpace& ss, const SiftDetectionOptions& options);
+
+}  // namespace pgba

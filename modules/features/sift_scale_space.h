@@ -1,0 +1,29 @@
+// The SIFT scale space (Lowe 2004): octaves of Gaussian-blurred layers, each octave half the
+// size of the previous one, and their differences (DoG). Built with the parallel filters of
+// gaussian_blur.h; the same layout as OpenCV's and VLFeat's so their parameters carry over.
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <vector>
+
+namespace pgba {
+
+struct SiftScaleSpace {
+  int layers_per_octave = 3;  // s: scales per octave where extrema are sought
+  double sigma = 1.6;         // blur of each octave's first layer, in that octave's pixels
+  bool upsampled = false;     // octave 0 is the input doubled (first octave -1)
+  // gaussians[o] has s + 3 layers, dogs[o] s + 2 (dogs[o][i] = gaussians[o][i+1] - [i]);
+  // only layers 1..s, where keypoints live, are kept: 0, s+1 and s+2 are empty once built.
+  std::vector<std::vector<cv::Mat>> gaussians;
+  std::vector<std::vector<cv::Mat>> dogs;
+  int num_octaves() const { return static_cast<int>(gaussians.size()); }
+};
+
+// Scale space of an 8-bit image (grey levels 0..255 kept as floats). upsample: start on the
+// doubled image (the input is assumed blurred by 0.5 px, 1 px once doubled), as OpenCV and
+// COLMAP's default; otherwise at the input resolution. Octaves stop when the smaller side
+// would fall below 8 px (OpenCV's count: round(log2(min side)) - 2 octaves).
+SiftScaleSpace BuildSiftScaleSpace(const cv::Mat& gray8u, bool upsample, int layers_per_octave = 3,
+                                   double sigma = 1.6);
+
+}  // namespace pgba
