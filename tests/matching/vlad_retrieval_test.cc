@@ -28,7 +28,8 @@ struct BlockFeatures {
   std::vector<cv::Mat> descriptors;
 };
 
-// 48 images 512 x 384 in 4 strips (75% forward, 50% side overlap), 2000 features each.
+// 48 images 512 x 384 in 4 strips (75% forward, 50% side overlap), up to 2000 features each
+// (~100k descriptors: the whole sample of the vocabulary's default budget).
 const BlockFeatures& SmallBlock() {
   static const BlockFeatures* features = [] {
     AerialBlockOptions o = DefaultAerialBlockOptions();
@@ -88,9 +89,11 @@ TEST(VladRetrieval, FindsTheTrulyOverlappingPairsOfAnAerialBlockWithinNTimesK) {
     std::cout << "k " << k << ": " << pairs.size() << " pairs, recall of the " << strong.size()
               << " pairs overlapping >= 50%: " << recall << ", of the " << any.size()
               << " overlapping at all: " << Recall(any, found) << ", disjoint pairs " << disjoint << std::endl;
-    // Bars a little below the measured values (k 5: recall 0.93, k 10: 1.0; see the output).
-    EXPECT_GE(recall, k == 5 ? 0.85 : 0.97);
-    EXPECT_LE(disjoint, pairs.size() / 10);
+    // Bars a little below the measured values (k 5: recall 0.959, no disjoint pair; k 10:
+    // recall 1.0, 14 of 270 pairs disjoint: the top 10 reach past the ~3 neighbours per
+    // image that overlap >= 50% into images that look alike without sharing ground).
+    EXPECT_GE(recall, k == 5 ? 0.92 : 0.99);
+    EXPECT_LE(disjoint, k == 5 ? pairs.size() / 50 : pairs.size() / 12);
   }
 }
 

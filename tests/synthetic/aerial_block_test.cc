@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <opencv2/imgproc.hpp>
 #include <random>
 
@@ -64,7 +65,9 @@ TEST(AerialBlock, FlightPlanHasTheRequestedOverlapsAndRendersTheTrueGeometry) {
   EXPECT_EQ(block.strips, 3);
   EXPECT_NEAR(block.altitude, 0.8 * 320 * 0.3, 1e-9);
   // Neighbours along a strip overlap by ~forward_overlap, the same position on the next
-  // strip by ~side_overlap (attitude and position jitter move both a few percent).
+  // strip by ~side_overlap; attitude and position jitter move both by a few percent (a 2
+  // degree tilt shifts the footprint by 3.5% of its length), which on average lowers the
+  // forward overlap (measured medians: 0.717 forward, 0.525 side).
   std::vector<double> forward, side;
   for (int s = 0; s < 3; ++s)
     for (int i = 0; i + 1 < 8; ++i) forward.push_back(synthetic::FootprintOverlap(block.footprints[8 * s + i], block.footprints[8 * s + i + 1]));
@@ -72,11 +75,15 @@ TEST(AerialBlock, FlightPlanHasTheRequestedOverlapsAndRendersTheTrueGeometry) {
     side.push_back(synthetic::FootprintOverlap(block.footprints[i], block.footprints[8 + 7 - i]));
   std::sort(forward.begin(), forward.end());
   std::sort(side.begin(), side.end());
-  EXPECT_NEAR(forward[forward.size() / 2], 0.75, 0.04);
-  EXPECT_NEAR(side[side.size() / 2], 0.5, 0.06);
+  std::cout << "overlap median forward " << forward[forward.size() / 2] << ", side " << side[side.size() / 2]
+            << std::endl;
+  EXPECT_NEAR(forward[forward.size() / 2], 0.73, 0.03);
+  EXPECT_NEAR(side[side.size() / 2], 0.5, 0.05);
 
   // A ground point looks the same in two overlapping photos: 9 x 9 patches around its true
-  // projections correlate (NCC), except the few points a building hides in one of them.
+  // projections correlate (NCC), except the few points a building hides in one of them. A
+  // pose convention mixed up (a transposed rotation, a flipped image axis) would decorrelate
+  // them.
   std::vector<cv::Mat> gray(2);
   const size_t a = 3, b = 4;  // consecutive on strip 0
   for (int t = 0; t < 2; ++t) cv::cvtColor(RenderAerialImage(block, o, t ? b : a), gray[t], cv::COLOR_BGR2GRAY);
@@ -104,8 +111,11 @@ TEST(AerialBlock, FlightPlanHasTheRequestedOverlapsAndRendersTheTrueGeometry) {
   }
   ASSERT_GE(ncc.size(), 60u);
   std::sort(ncc.begin(), ncc.end());
-  EXPECT_GT(ncc[ncc.size() / 2], 0.9);
-  EXPECT_GT(ncc[ncc.size() / 4], 0.7);
+  std::cout << ncc.size() << " ground points, patch NCC quartiles " << ncc[ncc.size() / 4] << " "
+            << ncc[ncc.size() / 2] << " " << ncc[3 * ncc.size() / 4] << std::endl;
+  // Measured: quartiles 0.935, 0.981, 0.990 (noise and resampling keep them below 1).
+  EXPECT_GT(ncc[ncc.size() / 2], 0.96);
+  EXPECT_GT(ncc[ncc.size() / 4], 0.9);
 
   // Every pixel shows texture (the ground covers every footprint) and a render repeats.
   const cv::Mat img = RenderAerialImage(block, o, 10);
