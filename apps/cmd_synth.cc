@@ -165,7 +165,8 @@ void RegisterSynth(CLI::App& app) {
     SynthArgs a = *args;
     if (a.seed < 0) ThrowInputError("--seed", 0, "must be >= 0, got " + std::to_string(a.seed));
     static const char* kTrackOnly[] = {"--scenario", "--noise", "--outliers", "--points"};
-    static const char* kRenderOnly[] = {"--width", "--height", "--focal", "--supersampling", "--image-noise", "--scene"};
+    static const char* kRenderOnly[] = {"--width", "--height", "--focal", "--supersampling", "--image-noise",
+                                        "--scene"};
     static const char* kAerialOnly[] = {"--forward-overlap", "--side-overlap", "--ground-sample"};
     if (a.render) {
       for (const char* opt : kTrackOnly)
@@ -183,7 +184,8 @@ void RegisterSynth(CLI::App& app) {
         if (sub->count("--supersampling")) o.image.supersampling = r.supersampling;
         if (sub->count("--image-noise")) o.image.image_noise = r.image_noise;
         if (sub->count("--strips")) {
-          if (a.options.num_strips < 1) ThrowInputError("--strips", 0, "must be >= 1, got " + std::to_string(a.options.num_strips));
+          if (a.options.num_strips < 1)
+            ThrowInputError("--strips", 0, "must be >= 1, got " + std::to_string(a.options.num_strips));
           o.strips = a.options.num_strips;
         }
         o.image.k1 = a.options.k1;

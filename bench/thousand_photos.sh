@@ -33,15 +33,16 @@ if [[ ! -f "$out/scene/synth_args" || "$(cat "$out/scene/synth_args")" != "$synt
   # shellcheck disable=SC2086
   /usr/bin/time -v "$PGBA" synth $synth_args --out "$out/scene" >"$out/synth.log" 2>&1 ||
     { echo "error: pgba synth failed, see $out/synth.log" >&2; exit 1; }
-  render_s=$(awk -F': ' '/Elapsed \(wall clock\)/ {n = split($2, t, ":"); s = 0; for (i = 1; i <= n; i++) s = 60 * s + t[i]; print s}' "$out/synth.log")
+  render_s=$(awk -F': ' '/Elapsed \(wall clock\)/ {
+    n = split($2, t, ":"); s = 0; for (i = 1; i <= n; i++) s = 60 * s + t[i]; print s }' "$out/synth.log")
   echo "$synth_args" >"$out/scene/synth_args"
 fi
 
 rm -rf "$out/run"
+: >"$out/load.txt"
 (while true; do cut -d' ' -f1 /proc/loadavg >>"$out/load.txt"; sleep 20; done) &
 sampler=$!
 trap 'kill $sampler 2>/dev/null || true' EXIT
-: >"$out/load.txt"
 status=0
 /usr/bin/time -v "$PGBA" run --images "$out/scene/images" --calib "$out/scene/cameras.txt" --gt "$out/scene/gt" \
   --config "$config" --out "$out/run" >"$out/run.log" 2>&1 || status=$?

@@ -43,8 +43,8 @@ double Shade(const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
   return 0.65 + 0.35 * std::abs(u.cross(v).normalized().dot(light));
 }
 
-TexturedQuad MakeQuad(const Eigen::Vector3d& origin, const Eigen::Vector3d& u, const Eigen::Vector3d& v,
-                      double texel, uint64_t seed) {
+TexturedQuad MakeQuad(const Eigen::Vector3d& origin, const Eigen::Vector3d& u, const Eigen::Vector3d& v, double texel,
+                      uint64_t seed) {
   TexturedQuad q;
   q.origin = origin;
   q.u_axis = u;
@@ -110,7 +110,8 @@ AerialBlockOptions DefaultAerialBlockOptions() {
 
 void ValidateAerialBlockOptions(const AerialBlockOptions& o) {
   ValidateRenderedSceneOptions(o.image);
-  if (o.image.num_images < 4) ThrowInputError("--images", 0, "aerial: must be >= 4, got " + std::to_string(o.image.num_images));
+  if (o.image.num_images < 4)
+    ThrowInputError("--images", 0, "aerial: must be >= 4, got " + std::to_string(o.image.num_images));
   if (o.image.num_images > 20000) ThrowInputError("--images", 0, "aerial: must be <= 20000");
   if (o.strips < 0 || o.strips > o.image.num_images / 2)
     ThrowInputError("--strips", 0, "must be 0 (automatic) or 1..images/2 (at least 2 images per strip)");
@@ -205,7 +206,8 @@ AerialBlock MakeAerialBlock(const AerialBlockOptions& options) {
   const double texel = kTexelPerSample * gsd;
   block.quads.resize(specs.size());
   tbb::parallel_for(size_t(0), specs.size(), [&](size_t i) {
-    block.quads[i] = MakeQuad(specs[i].origin, specs[i].u, specs[i].v, texel, synthetic::MixSeed(options.image.seed, i));
+    block.quads[i] =
+        MakeQuad(specs[i].origin, specs[i].u, specs[i].v, texel, synthetic::MixSeed(options.image.seed, i));
   });
   block.lens = std::make_shared<synthetic::LensRenderer>(cam, io.supersampling);
   block.texture_seconds = timer.Seconds();

@@ -33,10 +33,10 @@ struct AerialBlockOptions {
   // seed, num_images, width, height, focal_px (0 = 0.8 x width), supersampling,
   // image_noise, k1, focal_prior_error as for the room (rendered_scene.h).
   RenderedSceneOptions image;
-  int strips = 0;               // flight lines; 0 = about as many as make the block square
+  int strips = 0;                 // flight lines; 0 = about as many as make the block square
   double forward_overlap = 0.75;  // along a strip, fraction of the footprint, [0.5, 0.9]
-  double side_overlap = 0.5;    // between strips, [0.2, 0.8]
-  double ground_sample_m = 0.1;  // ground distance of one pixel at nadir, metres
+  double side_overlap = 0.5;      // between strips, [0.2, 0.8]
+  double ground_sample_m = 0.1;   // ground distance of one pixel at nadir, metres
 };
 
 // Defaults of the aerial scene where they differ from the room's: 1024 x 768 images, 1000 of
@@ -49,13 +49,13 @@ void ValidateAerialBlockOptions(const AerialBlockOptions& options);
 struct AerialBlock {
   // Camera 1 and images 1..n (strip by strip, in flight order) with their true poses.
   Reconstruction gt;
-  Camera calibration;  // DIR/cameras.txt: gt's camera or its focal prior
-  std::vector<synthetic::TexturedQuad> quads;  // ground tiles, then buildings
-  std::vector<synthetic::GroundPolygon> footprints;  // per image, on z = 0
+  Camera calibration;                                   // DIR/cameras.txt: gt's camera or its focal prior
+  std::vector<synthetic::TexturedQuad> quads;           // ground tiles, then buildings
+  std::vector<synthetic::GroundPolygon> footprints;     // per image, on z = 0
   std::shared_ptr<const synthetic::LensRenderer> lens;  // the true camera, built once
   int strips = 0;
-  double altitude = 0.0;       // metres above the ground
-  double extent = 0.0;         // diagonal of the bounding box of the camera centres
+  double altitude = 0.0;         // metres above the ground
+  double extent = 0.0;           // diagonal of the bounding box of the camera centres
   double texture_seconds = 0.0;  // wall time of the geometry and the textures
 };
 

@@ -15,8 +15,8 @@ GroundPolygon GroundFootprint(const Camera& camera, const Pose& pose, double gro
   const Eigen::Matrix3d Rt = pose.R().transpose();
   GroundPolygon poly;
   const double w = camera.width, h = camera.height;
-  for (const Eigen::Vector2d& px : {Eigen::Vector2d(0, 0), Eigen::Vector2d(w, 0), Eigen::Vector2d(w, h),
-                                    Eigen::Vector2d(0, h)}) {
+  for (const Eigen::Vector2d& px :
+       {Eigen::Vector2d(0, 0), Eigen::Vector2d(w, 0), Eigen::Vector2d(w, h), Eigen::Vector2d(0, h)}) {
     const Eigen::Vector3d ray = Rt * camera.PixelToBearing(px);
     const double t = (ground_z - C.z()) / ray.z();
     if (!(t > 0) || !std::isfinite(t)) return {};

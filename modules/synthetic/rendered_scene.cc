@@ -153,7 +153,8 @@ RenderedScene RenderRoomScene(const RenderedSceneOptions& options) {
 
   const std::vector<QuadSpec> specs = RoomGeometry();
   std::vector<TexturedQuad> quads(specs.size());
-  tbb::parallel_for(size_t(0), specs.size(), [&](size_t i) { quads[i] = Texture(specs[i], synthetic::MixSeed(options.seed, i)); });
+  tbb::parallel_for(size_t(0), specs.size(),
+                    [&](size_t i) { quads[i] = Texture(specs[i], synthetic::MixSeed(options.seed, i)); });
 
   scene.images.resize(views.size());
   const synthetic::LensRenderer lens(cam, options.supersampling);

@@ -4,6 +4,8 @@
 // computed from the poses alone. Retrieval must find nearly all strongly overlapping pairs,
 // few of its pairs may be disjoint, the count stays within n x neighbors, and the result
 // does not depend on the number of threads.
+#include "matching/vlad_retrieval.h"
+
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
@@ -15,7 +17,6 @@
 
 #include "features/sift_extractor.h"
 #include "matching/pair_selection.h"
-#include "matching/vlad_retrieval.h"
 #include "modules/synthetic/aerial_block.h"
 
 namespace pgba {

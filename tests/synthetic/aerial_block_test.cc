@@ -2,6 +2,8 @@
 // (ground_footprint.h): footprints against their closed form, the flight plan's overlaps
 // against the options, rendered pixels against the true projection (the same ground point
 // looks the same in two overlapping photos), determinism, and bad options.
+#include "modules/synthetic/aerial_block.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -11,10 +13,9 @@
 #include <opencv2/imgproc.hpp>
 #include <random>
 
-#include "tests/apps/cli_runner.h"
-#include "modules/synthetic/aerial_block.h"
 #include "modules/synthetic/ground_footprint.h"
 #include "pgba/util/error.h"
+#include "tests/apps/cli_runner.h"
 
 namespace pgba {
 namespace {
@@ -55,7 +56,8 @@ TEST(GroundFootprint, NadirRectangleAndConvexIntersection) {
   const synthetic::GroundPolygon sq = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
   const double r = std::sqrt(2.0);
   const synthetic::GroundPolygon diamond = {{r, 0}, {0, r}, {-r, 0}, {0, -r}};
-  EXPECT_NEAR(synthetic::PolygonArea(synthetic::IntersectConvex(sq, diamond)), 4.0 - 2.0 * (2.0 - r) * (2.0 - r), 1e-12);
+  EXPECT_NEAR(synthetic::PolygonArea(synthetic::IntersectConvex(sq, diamond)), 4.0 - 2.0 * (2.0 - r) * (2.0 - r),
+              1e-12);
 }
 
 TEST(AerialBlock, FlightPlanHasTheRequestedOverlapsAndRendersTheTrueGeometry) {
@@ -70,7 +72,8 @@ TEST(AerialBlock, FlightPlanHasTheRequestedOverlapsAndRendersTheTrueGeometry) {
   // forward overlap (measured medians: 0.717 forward, 0.525 side).
   std::vector<double> forward, side;
   for (int s = 0; s < 3; ++s)
-    for (int i = 0; i + 1 < 8; ++i) forward.push_back(synthetic::FootprintOverlap(block.footprints[8 * s + i], block.footprints[8 * s + i + 1]));
+    for (int i = 0; i + 1 < 8; ++i)
+      forward.push_back(synthetic::FootprintOverlap(block.footprints[8 * s + i], block.footprints[8 * s + i + 1]));
   for (int i = 0; i < 8; ++i)  // strip 1 flies back: its image 7 - i is above strip 0's image i
     side.push_back(synthetic::FootprintOverlap(block.footprints[i], block.footprints[8 + 7 - i]));
   std::sort(forward.begin(), forward.end());
@@ -111,8 +114,8 @@ TEST(AerialBlock, FlightPlanHasTheRequestedOverlapsAndRendersTheTrueGeometry) {
   }
   ASSERT_GE(ncc.size(), 60u);
   std::sort(ncc.begin(), ncc.end());
-  std::cout << ncc.size() << " ground points, patch NCC quartiles " << ncc[ncc.size() / 4] << " "
-            << ncc[ncc.size() / 2] << " " << ncc[3 * ncc.size() / 4] << std::endl;
+  std::cout << ncc.size() << " ground points, patch NCC quartiles " << ncc[ncc.size() / 4] << " " << ncc[ncc.size() / 2]
+            << " " << ncc[3 * ncc.size() / 4] << std::endl;
   // Measured: quartiles 0.935, 0.981, 0.990 (noise and resampling keep them below 1).
   EXPECT_GT(ncc[ncc.size() / 2], 0.96);
   EXPECT_GT(ncc[ncc.size() / 4], 0.9);
@@ -128,8 +131,10 @@ TEST(AerialBlock, FlightPlanHasTheRequestedOverlapsAndRendersTheTrueGeometry) {
 TEST(AerialBlock, WritesTheDatasetLayoutAndRejectsBadOptions) {
   const fs::path out = fs::temp_directory_path() / ("pgba_aerial_" + std::to_string(::getpid()));
   fs::remove_all(out);
-  const test::CliResult r = test::RunPgba("synth --render --scene aerial --images 8 --strips 2 --width 160 --height 120 "
-                                          "--ground-sample 0.5 --out " + out.string());
+  const test::CliResult r = test::RunPgba(
+      "synth --render --scene aerial --images 8 --strips 2 --width 160 --height 120 "
+      "--ground-sample 0.5 --out " +
+      out.string());
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_EQ(std::distance(fs::directory_iterator(out / "images"), fs::directory_iterator()), 8);
   EXPECT_TRUE(fs::exists(out / "cameras.txt"));
