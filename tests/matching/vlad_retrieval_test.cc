@@ -29,12 +29,11 @@ struct BlockFeatures {
   std::vector<cv::Mat> descriptors;
 };
 
-// 48 images 512 x 384 in 4 strips (75% forward, 50% side overlap), up to 2000 features each
-// (~100k descriptors: the whole sample of the vocabulary's default budget).
+// 40 images 512 x 384 in 4 strips (75% forward, 50% side overlap), up to 1500 features each.
 const BlockFeatures& SmallBlock() {
   static const BlockFeatures* features = [] {
     AerialBlockOptions o = DefaultAerialBlockOptions();
-    o.image.num_images = 48;
+    o.image.num_images = 40;
     o.image.width = 512;
     o.image.height = 384;
     o.strips = 4;
@@ -42,7 +41,7 @@ const BlockFeatures& SmallBlock() {
     auto* f = new BlockFeatures{MakeAerialBlock(o), {}};
     f->descriptors.resize(f->block.gt.images.size());
     SiftOptions sift;
-    sift.max_features = 2000;
+    sift.max_features = 1500;
     tbb::parallel_for(size_t(0), f->descriptors.size(), [&](size_t k) {
       cv::Mat gray;
       cv::cvtColor(RenderAerialImage(f->block, o, k), gray, cv::COLOR_BGR2GRAY);
@@ -51,6 +50,14 @@ const BlockFeatures& SmallBlock() {
     return f;
   }();
   return *features;
+}
+
+// The vocabulary from every second descriptor (~30k of ~60k; the default budget of 100k
+// would take them all): keeps the tests fast and goes through the sampling stride.
+VladOptions TestVlad() {
+  VladOptions o;
+  o.max_training_descriptors = 30000;
+  return o;
 }
 
 double Recall(const std::vector<Pair>& truth, const std::set<Pair>& found) {
@@ -62,14 +69,14 @@ double Recall(const std::vector<Pair>& truth, const std::set<Pair>& found) {
 TEST(VladRetrieval, FindsTheTrulyOverlappingPairsOfAnAerialBlockWithinNTimesK) {
   const BlockFeatures& f = SmallBlock();
   const size_t n = f.descriptors.size();
-  ASSERT_EQ(n, 48u);
+  ASSERT_EQ(n, 40u);
   for (const cv::Mat& d : f.descriptors) ASSERT_GT(d.rows, 1000);
 
   const std::vector<Pair> strong = OverlappingPairs(f.block, 0.5);  // neighbours along a strip, across strips
   const std::vector<Pair> any = OverlappingPairs(f.block, 0.01);
   const std::set<Pair> any_set(any.begin(), any.end());
   for (int k : {5, 10}) {
-    VladOptions o;
+    VladOptions o = TestVlad();
     o.neighbors = k;
     const std::vector<Pair> pairs = RetrievalPairs(f.descriptors, o);
     // Bounded: each image adds at most k pairs (fewer where two images chose each other).
@@ -90,17 +97,17 @@ TEST(VladRetrieval, FindsTheTrulyOverlappingPairsOfAnAerialBlockWithinNTimesK) {
     std::cout << "k " << k << ": " << pairs.size() << " pairs, recall of the " << strong.size()
               << " pairs overlapping >= 50%: " << recall << ", of the " << any.size()
               << " overlapping at all: " << Recall(any, found) << ", disjoint pairs " << disjoint << std::endl;
-    // Bars a little below the measured values (k 5: recall 0.959, no disjoint pair; k 10:
-    // recall 1.0, 14 of 270 pairs disjoint: the top 10 reach past the ~3 neighbours per
+    // Bars a little below the measured values (k 5: recall 0.984 of 62, no disjoint pair;
+    // k 10: recall 1.0, 17 of 226 pairs disjoint: the top 10 reach past the ~3 neighbours per
     // image that overlap >= 50% into images that look alike without sharing ground).
-    EXPECT_GE(recall, k == 5 ? 0.92 : 0.99);
-    EXPECT_LE(disjoint, k == 5 ? pairs.size() / 50 : pairs.size() / 12);
+    EXPECT_GE(recall, k == 5 ? 0.95 : 0.99);
+    EXPECT_LE(disjoint, k == 5 ? pairs.size() / 50 : pairs.size() / 10);
   }
 }
 
 TEST(VladRetrieval, SamePairsWithOneThreadAsWithTwo) {
   const BlockFeatures& f = SmallBlock();
-  VladOptions o;
+  VladOptions o = TestVlad();
   o.neighbors = 6;
   std::vector<Pair> one, two;
   {
@@ -108,15 +115,14 @@ TEST(VladRetrieval, SamePairsWithOneThreadAsWithTwo) {
     one = RetrievalPairs(f.descriptors, o);
   }
   {
+    // Through the pair selection, which validates its options, on two threads.
     tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
-    two = RetrievalPairs(f.descriptors, o);
+    PairSelectionOptions sel;
+    sel.method = "retrieval";
+    sel.vlad = o;
+    two = SelectPairs(f.descriptors, sel);
   }
   EXPECT_EQ(one, two);
-  // And through the pair selection, which validates its options.
-  PairSelectionOptions sel;
-  sel.method = "retrieval";
-  sel.vlad = o;
-  EXPECT_EQ(SelectPairs(f.descriptors, sel), one);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include "modules/synthetic/aerial_block.h"
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -126,6 +127,20 @@ TEST(AerialBlock, FlightPlanHasTheRequestedOverlapsAndRendersTheTrueGeometry) {
   cv::cvtColor(img, g, cv::COLOR_BGR2GRAY);
   EXPECT_LT(cv::countNonZero(g < 3), 5);
   EXPECT_EQ(cv::norm(img, RenderAerialImage(block, o, 10), cv::NORM_INF), 0.0);
+}
+
+TEST(AerialBlock, SameImagesOnOneThreadAsOnTwo) {
+  const AerialBlockOptions o = Small();
+  cv::Mat one, two;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    one = RenderAerialImage(MakeAerialBlock(o), o, 17);
+  }
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    two = RenderAerialImage(MakeAerialBlock(o), o, 17);
+  }
+  EXPECT_EQ(cv::norm(one, two, cv::NORM_INF), 0.0);
 }
 
 TEST(AerialBlock, WritesTheDatasetLayoutAndRejectsBadOptions) {
