@@ -29,7 +29,7 @@ constexpr double kDegToRad = M_PI / 180.0;
 constexpr double kTile = 64.0;  // metres; one texture per tile
 // Texels of 0.8 ground samples: at 2x supersampling a rendered sample covers 0.5 ground
 // samples, so the texture is magnified ~1.6x before the box filter, not blurred much,
-// and the ground of a 1,000-image block fits in ~0.6 GB.
+// and the ground of a 1,000-image block fits in ~1 GB.
 constexpr double kTexelPerSample = 0.8;
 constexpr double kAttitudeSdDeg = 2.0;
 // Footprints include the buildings' tops only approximately (they are computed on z = 0);
