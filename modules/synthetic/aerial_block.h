@@ -12,7 +12,7 @@
 // about each axis) makes the views slightly oblique and the block not a perfect grid.
 //
 // Memory: the textures of the whole ground are held (3 bytes per texel at
-// 0.8 x ground_sample_m: ~1 GB for 1,000 images at 1024 x 768, 1.3 x 1.3 km; `pgba synth`
+// 0.8 x ground_sample_m: ~1 GB for 1,000 images at 1024 x 768, about 1 x 1 km; `pgba synth`
 // peaked at 1.1 GB); images are rendered, encoded and written one per thread at a time
 // (WriteAerialBlock), never all held.
 // Deterministic: the same options give bit-identical files whatever the number of threads.
