@@ -9,6 +9,11 @@
 // Renders photographs of a textured room from a ring of known poses (rendered_scene.h):
 // DIR/images/*.png, DIR/cameras.txt (the prior), DIR/gt/ (true camera and poses), DIR/loop.txt.
 //
+// pgba synth --render --scene aerial --out DIR [--images N (1000)] [--width W (1024)]
+//   [--height H (768)] [--strips S] [--forward-overlap F] [--side-overlap F] [--ground-sample M] ...
+// Renders an aerial block (aerial_block.h): a textured town flown in strips; DIR/images/,
+// DIR/cameras.txt, DIR/gt/, DIR/overlap.txt (pairs whose true footprints overlap).
+//
 // --k1: radial distortion of the true lens (SIMPLE_RADIAL); --focal-prior-error: relative
 // error of the calibration handed to the pipeline, which has no distortion
 // (modules/synthetic/synthetic_lens.h).
@@ -19,6 +24,7 @@
 #include <memory>
 
 #include "apps/commands.h"
+#include "modules/synthetic/aerial_block.h"
 #include "modules/synthetic/rendered_scene.h"
 #include "modules/synthetic/synthetic_lens.h"
 #include "modules/synthetic/synthetic_scene.h"
@@ -37,8 +43,26 @@ struct SynthArgs {
   int64_t seed = 1;  // signed so that a negative seed is rejected rather than wrapped
   SyntheticOptions options;
   bool render = false;
+  std::string scene = "room";  // --render: room | aerial
   RenderedSceneOptions render_options;
+  AerialBlockOptions aerial = DefaultAerialBlockOptions();
 };
+
+int RunRenderAerial(const SynthArgs& args) {
+  const AerialBlockOptions& options = args.aerial;
+  const AerialBlock block = MakeAerialBlock(options);
+  const double render_s = WriteAerialBlock(block, options, args.out);
+  const Camera& cam = block.gt.cameras.at(1);
+  const size_t n = block.gt.images.size();
+  std::printf("synth --render aerial (seed %llu): %zu images %dx%d in %d strips, %s f %.1f px (prior %.1f px), "
+              "altitude %.1f m, %zu quads, extent %.1f m; textures %.2f s, rendered and written in %.2f s "
+              "(%.3f s per image)\n",
+              static_cast<unsigned long long>(options.image.seed), n, cam.width, cam.height, block.strips,
+              CameraModelName(cam.model), cam.params[0], block.calibration.params[0], block.altitude,
+              block.quads.size(), block.extent, block.texture_seconds, render_s, render_s / n);
+  std::printf("wrote %s/{images/, cameras.txt, gt/, overlap.txt}\n", args.out.c_str());
+  return 0;
+}
 
 int RunRender(const SynthArgs& args) {
   RenderedSceneOptions options = args.render_options;
@@ -101,7 +125,16 @@ void RegisterSynth(CLI::App& app) {
   CLI::App* sub = app.add_subcommand("synth", "Generate a synthetic scene with ground truth");
   sub->add_option("--scenario", args->scenario, "orbit | longfocal | aerial | planar (tracks only; not with --render)");
   sub->add_flag("--render", args->render,
-                "Render photographs of a textured room from a ring of known poses instead of tracks");
+                "Render photographs with known poses instead of tracks (--scene room or aerial)");
+  sub->add_option("--scene", args->scene,
+                  "--render: room (a textured room seen from a ring, default) | aerial (a textured town flown "
+                  "in strips, 1000 images 1024x768 by default)");
+  sub->add_option("--forward-overlap", args->aerial.forward_overlap,
+                  "--scene aerial: overlap along a strip, [0.5, 0.9] (default 0.75)");
+  sub->add_option("--side-overlap", args->aerial.side_overlap,
+                  "--scene aerial: overlap between strips, [0.2, 0.8] (default 0.5)");
+  sub->add_option("--ground-sample", args->aerial.ground_sample_m,
+                  "--scene aerial: ground distance of a pixel at nadir, metres (default 0.1)");
   sub->add_option("--out", args->out, "Output directory (gt/, input/, loop_pairs.txt; with --render: images/, "
                                       "cameras.txt, gt/, loop.txt)")
       ->required();
@@ -112,7 +145,9 @@ void RegisterSynth(CLI::App& app) {
   sub->add_option("--images", args->options.num_images,
                   "Number of images, >= 3 (default: the scenario's; --render: 20)");
   sub->add_option("--points", args->options.num_points, "Number of scene points (default: the scenario's)");
-  sub->add_option("--strips", args->options.num_strips, "aerial: number of strips (default 6, more for big blocks)");
+  sub->add_option("--strips", args->options.num_strips,
+                  "aerial (tracks or --render --scene aerial): number of strips (default: tracks 6, more for big "
+                  "blocks; rendered: a square block)");
   sub->add_option("--width", args->render_options.width, "--render: image width, pixels (default 640)");
   sub->add_option("--height", args->render_options.height, "--render: image height, pixels (default 480)");
   sub->add_option("--focal", args->render_options.focal_px, "--render: focal length, pixels (default 0.8 x width)");
@@ -129,11 +164,39 @@ void RegisterSynth(CLI::App& app) {
   AddCommand(app, sub, [args, sub] {
     SynthArgs a = *args;
     if (a.seed < 0) ThrowInputError("--seed", 0, "must be >= 0, got " + std::to_string(a.seed));
-    static const char* kTrackOnly[] = {"--scenario", "--noise", "--outliers", "--points", "--strips"};
-    static const char* kRenderOnly[] = {"--width", "--height", "--focal", "--supersampling", "--image-noise"};
+    static const char* kTrackOnly[] = {"--scenario", "--noise", "--outliers", "--points"};
+    static const char* kRenderOnly[] = {"--width", "--height", "--focal", "--supersampling", "--image-noise",
+                                        "--scene"};
+    static const char* kAerialOnly[] = {"--forward-overlap", "--side-overlap", "--ground-sample"};
     if (a.render) {
       for (const char* opt : kTrackOnly)
         if (sub->count(opt)) ThrowInputError(opt, 0, "does not apply to --render");
+      if (a.scene == "aerial") {
+        AerialBlockOptions& o = a.aerial;
+        o.image.seed = static_cast<uint64_t>(a.seed);
+        // The room's option struct received the shared flags; the aerial defaults stand
+        // where a flag was not given (its own resolution and image count).
+        const RenderedSceneOptions& r = a.render_options;
+        if (sub->count("--images")) o.image.num_images = a.options.num_images;
+        if (sub->count("--width")) o.image.width = r.width;
+        if (sub->count("--height")) o.image.height = r.height;
+        if (sub->count("--focal")) o.image.focal_px = r.focal_px;
+        if (sub->count("--supersampling")) o.image.supersampling = r.supersampling;
+        if (sub->count("--image-noise")) o.image.image_noise = r.image_noise;
+        if (sub->count("--strips")) {
+          if (a.options.num_strips < 1)
+            ThrowInputError("--strips", 0, "must be >= 1, got " + std::to_string(a.options.num_strips));
+          o.strips = a.options.num_strips;
+        }
+        o.image.k1 = a.options.k1;
+        o.image.focal_prior_error = a.options.focal_prior_error;
+        ValidateAerialBlockOptions(o);
+        return RunRenderAerial(a);
+      }
+      if (a.scene != "room") ThrowInputError("--scene", 0, "unknown scene '" + a.scene + "' (room, aerial)");
+      for (const char* opt : kAerialOnly)
+        if (sub->count(opt)) ThrowInputError(opt, 0, "only applies with --scene aerial");
+      if (sub->count("--strips")) ThrowInputError("--strips", 0, "does not apply to the room (--scene aerial)");
       if (sub->count("--images")) a.render_options.num_images = a.options.num_images;
       a.render_options.k1 = a.options.k1;
       a.render_options.focal_prior_error = a.options.focal_prior_error;
@@ -141,6 +204,8 @@ void RegisterSynth(CLI::App& app) {
     }
     for (const char* opt : kRenderOnly)
       if (sub->count(opt)) ThrowInputError(opt, 0, "only applies with --render");
+    for (const char* opt : kAerialOnly)
+      if (sub->count(opt)) ThrowInputError(opt, 0, "only applies with --render --scene aerial");
     if (!sub->count("--scenario")) ThrowInputError("--scenario", 0, "required (or --render for rendered images)");
     if (sub->count("--images") && a.options.num_images < 3)
       ThrowInputError("--images", 0, "must be >= 3, got " + std::to_string(a.options.num_images));

@@ -81,8 +81,11 @@ std::vector<std::pair<uint32_t, uint32_t>> RetrievalPairs(const std::vector<cv::
 
   std::set<std::pair<uint32_t, uint32_t>> pairs;
   const int k = std::min(options.neighbors, n - 1);
-  std::vector<int> order(n);
+  std::vector<int> order;
   for (int i = 0; i < n; ++i) {
+    // Every image but i, afresh for each i (erasing from one shared list shrank it by one
+    // per image, so that from the middle of the list on the erase ran past its end).
+    order.resize(n);
     std::iota(order.begin(), order.end(), 0);
     order.erase(order.begin() + i);
     // Most similar first; ties by index for determinism.

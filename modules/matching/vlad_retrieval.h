@@ -34,7 +34,8 @@ cv::Mat TrainVladVocabulary(const std::vector<cv::Mat>& descriptors, const VladO
 // The normalised VLAD vector of one image (empty descriptors -> zero vector).
 Eigen::VectorXf ComputeVlad(const cv::Mat& descriptors_u8, const cv::Mat& words);
 
-// Pairs (i < j) of images among each other's top `neighbors` by VLAD similarity, sorted.
+// Pairs (i < j) of images among each other's top `neighbors` by VLAD similarity, sorted:
+// at most n * neighbors pairs, and every image is in at least min(neighbors, n - 1).
 std::vector<std::pair<uint32_t, uint32_t>> RetrievalPairs(const std::vector<cv::Mat>& descriptors,
                                                           const VladOptions& options);
 

@@ -10,6 +10,8 @@
 #include "modules/synthetic/lens_remap.h"
 #include "modules/synthetic/procedural_texture.h"
 #include "modules/synthetic/quad_renderer.h"
+#include "modules/synthetic/seed_mix.h"
+#include "modules/synthetic/sensor_noise.h"
 #include "modules/synthetic/synthetic_layout.h"
 #include "modules/synthetic/synthetic_lens.h"
 #include "pgba/io/colmap_text.h"
@@ -104,13 +106,6 @@ TexturedQuad Texture(const QuadSpec& spec, uint64_t seed) {
   return q;
 }
 
-uint64_t Mix(uint64_t a, uint64_t b) {
-  uint64_t s = a * 0x9E3779B97F4A7C15ULL + b + 0x632BE59BD9B4E019ULL;
-  s = (s ^ (s >> 30)) * 0xBF58476D1CE4E5B9ULL;
-  s = (s ^ (s >> 27)) * 0x94D049BB133111EBULL;
-  return s ^ (s >> 31);
-}
-
 }  // namespace
 
 void ValidateRenderedSceneOptions(const RenderedSceneOptions& o) {
@@ -158,20 +153,14 @@ RenderedScene RenderRoomScene(const RenderedSceneOptions& options) {
 
   const std::vector<QuadSpec> specs = RoomGeometry();
   std::vector<TexturedQuad> quads(specs.size());
-  tbb::parallel_for(size_t(0), specs.size(), [&](size_t i) { quads[i] = Texture(specs[i], Mix(options.seed, i)); });
+  tbb::parallel_for(size_t(0), specs.size(),
+                    [&](size_t i) { quads[i] = Texture(specs[i], synthetic::MixSeed(options.seed, i)); });
 
   scene.images.resize(views.size());
   const synthetic::LensRenderer lens(cam, options.supersampling);
   tbb::parallel_for(size_t(0), views.size(), [&](size_t k) {
     cv::Mat img = lens.Render(quads, views[k].pose);
-    if (options.image_noise > 0) {
-      cv::Mat noisy(img.size(), CV_32FC3);
-      cv::RNG(Mix(options.seed ^ 0xA5A5A5A5ULL, k)).fill(noisy, cv::RNG::NORMAL, 0.0, options.image_noise);
-      cv::Mat f32;
-      img.convertTo(f32, CV_32FC3);
-      noisy += f32;
-      noisy.convertTo(img, CV_8UC3);  // rounds and saturates
-    }
+    synthetic::AddSensorNoise(&img, options.image_noise, synthetic::MixSeed(options.seed ^ 0xA5A5A5A5ULL, k));
     scene.images[k] = img;
   });
   scene.seconds = timer.Seconds();
