@@ -3,6 +3,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -87,9 +88,14 @@ SigmaResult EvaluateSigma(const Reconstruction& obs, const PoseMap& poses, const
     out.num_observations += s.num_views;
     if (!s.triangulated) continue;
     ++out.num_triangulated;
+    // One view under inlier_px is no reprojection error: a point constrained by one ray lies
+    // anywhere on it (at ~1e15 for an outlier track whose Huber estimate runs to infinity, where
+    // the residual in that view is chaotic in the poses). Such observations count as outliers.
+    const size_t agreeing = static_cast<size_t>(std::count_if(
+        s.residuals_px.begin(), s.residuals_px.end(), [&](double e) { return e < options.inlier_px; }));
     for (double e : s.residuals_px) {
       all.push_back(e);
-      if (e < options.inlier_px) inliers.push_back(e);
+      if (agreeing >= 2 && e < options.inlier_px) inliers.push_back(e);
     }
   }
   out.num_inliers = inliers.size();

@@ -2,9 +2,10 @@
 // metrics"). Every track of the observation model is triangulated with the evaluated poses
 // held fixed (linear + robust Gauss-Newton, the core's TriangulateTrack) and the pixel
 // reprojection errors of its observations are collected:
-//   sigma_rms       = sqrt(mean ||r||^2) over observations with ||r|| < inlier_px,
+//   sigma_rms       = sqrt(mean ||r||^2) over observations with ||r|| < inlier_px in tracks
+//                     where at least two views are under inlier_px,
 //   sigma_median    = median ||r|| over all observations of triangulated tracks,
-//   inlier_fraction = (#observations with ||r|| < inlier_px) / (#evaluated observations).
+//   inlier_fraction = (#observations counted in sigma_rms) / (#evaluated observations).
 // ||r|| is the 2D error norm in pixels. An observation is *evaluated* when its image is
 // registered and its track has >= 2 registered views; observations of a track that cannot
 // be triangulated (degenerate, behind a camera) are evaluated and count as outliers.
