@@ -200,8 +200,16 @@ GlobalBAResult CheckedRelinearization(const Reconstruction& tracks, const LocalH
   at_solution.max_iterations = 0;
   const ObservationShares shares = SharesOf(tracks, motions, at_solution);
 
+  // A solve whose solution is re-linearised next stops at the looser tolerance.
+  GlobalBAOptions before_pass = pointless;
+  before_pass.function_tolerance = std::max(options.function_tolerance, options.relinearized_function_tolerance);
+  const auto solve_options = [&](int passes_left) -> const GlobalBAOptions& {
+    return passes_left > 0 ? before_pass : pointless;
+  };
+
   Models models(motions, hessians);
-  GlobalBAResult trial = RunGlobalBA(initial_poses, motions, hessians, pointless, callback, gcps);
+  GlobalBAResult trial =
+      RunGlobalBA(initial_poses, motions, hessians, solve_options(options.max_relinearizations), callback, gcps);
   GlobalBASummary total = trial.summary;
   // The kept state: the initial poses (cost of the models taken there), then each kept step.
   GlobalBAResult kept = trial;
@@ -233,7 +241,7 @@ GlobalBAResult CheckedRelinearization(const Reconstruction& tracks, const LocalH
     if (decrease < options.relinearize_cost_tolerance ||
         total.relinearization_displacement < options.relinearize_tolerance)
       break;
-    trial = SolveAgain(kept.poses, models, pointless, callback, gcps, &total);
+    trial = SolveAgain(kept.poses, models, solve_options(options.max_relinearizations - k), callback, gcps, &total);
     // The last solve is taken as it is: its own check would cost one more pass, and it starts
     // from models that a kept step just produced (the same as the unchecked re-linearisation).
     if (k == options.max_relinearizations) kept = trial;

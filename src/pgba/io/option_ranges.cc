@@ -192,6 +192,7 @@ Table BuildTable() {
   t["global_ba.relinearize_misfit"] = Unbounded();  // <= 0: always
   t["global_ba.relinearize_tolerance"] = kPositive;
   t["global_ba.relinearize_cost_tolerance"] = kNonNegative;
+  t["global_ba.relinearized_function_tolerance"] = kNonNegative;
   // point_based (mapper/pose_refinement.h)
   AddBundleAdjuster("point_based.bundle", &t);
   t["point_based.filter_max_error_px"] = Unbounded();  // <= 0: a single pass
