@@ -147,11 +147,13 @@ bool RefineGaussNewton(const std::vector<TrackView>& views, const std::vector<si
   return true;
 }
 
+// The linear solution over the `count` views idx[0..count-1] (a pointer, not a vector: the
+// consensus search below calls it for every pair of views).
 bool LinearFrom(const std::vector<TrackView>& views, const std::vector<Eigen::Vector3d>& bearings,
-                const std::vector<size_t>& idx, Eigen::Vector3d* X) {
-  if (idx.size() < 2) return false;
+                const size_t* idx, size_t count, Eigen::Vector3d* X) {
+  if (count < 2) return false;
   return SolveNormalMatrix(
-      idx.size(), [&](size_t i) -> const Pose& { return views[idx[i]].pose; },
+      count, [&](size_t i) -> const Pose& { return views[idx[i]].pose; },
       [&](size_t i) -> const Eigen::Vector3d& { return bearings[idx[i]]; }, X);
 }
 
@@ -189,6 +191,32 @@ bool Better(const Candidate& a, const Candidate& b) {
   if (a.ok != b.ok) return a.ok;
   if (a.inliers != b.inliers) return a.inliers > b.inliers;
   return a.cost < b.cost;
+}
+
+// Whether X scores Better than `best` (Score then Better, without storing the residuals):
+// stops as soon as X can no longer reach best's inlier count. The consensus search scores
+// every pair of views of a track that holds an outlier, O(n^3) projections per track, most
+// of them for candidates that lose.
+bool ScoresBetter(const std::vector<TrackView>& views, const Eigen::Vector3d& X, double outlier_px,
+                  const Candidate& best) {
+  size_t inliers = 0, in_front = 0;
+  double cost = 0.0;
+  const size_t n = views.size();
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d xc = views[i].pose.ToCamera(X);
+    double r = xc.z() > 0 ? (views[i].camera->Project(xc) - views[i].pixel).norm() : kBehind;
+    if (!std::isfinite(r)) r = kBehind;
+    inliers += r < outlier_px;
+    in_front += r < kBehind;
+    cost += std::min(r, outlier_px) * std::min(r, outlier_px);
+    // best.ok: a candidate needs more inliers, or as many and a lower cost; the cost only grows.
+    if (best.ok && inliers + (n - 1 - i) < best.inliers) return false;
+  }
+  Candidate c;
+  c.ok = in_front >= 2;
+  c.inliers = inliers;
+  c.cost = cost;
+  return Better(c, best);
 }
 
 // Robust refinement from a starting point: Huber Gauss-Newton on the views that agree with
@@ -242,7 +270,7 @@ TriangulatedPoint TriangulateTrack(const std::vector<TrackView>& views, const Tr
 
   Candidate best;
   Eigen::Vector3d X;
-  if (LinearFrom(views, bearings, all, &X)) best = RobustRefine(views, X, opt);
+  if (LinearFrom(views, bearings, all.data(), all.size(), &X)) best = RobustRefine(views, X, opt);
   // Consensus restart: an outlier observation pulls the linear solution (or puts it behind
   // a camera); start again from the two-view solution that most views agree with. Tracks
   // are short; for long ones the pairs are drawn from 32 evenly spread views (496 pairs).
@@ -254,9 +282,9 @@ TriangulatedPoint TriangulateTrack(const std::vector<TrackView>& views, const Tr
     for (size_t a = 0; a < m; ++a) {
       for (size_t b = a + 1; b < m; ++b) {
         Eigen::Vector3d Y;
-        if (!LinearFrom(views, bearings, {pick[a], pick[b]}, &Y)) continue;
-        const Candidate c = Score(views, Y, opt.outlier_px);
-        if (Better(c, start)) start = c;
+        const size_t pair[2] = {pick[a], pick[b]};
+        if (!LinearFrom(views, bearings, pair, 2, &Y)) continue;
+        if (ScoresBetter(views, Y, opt.outlier_px, start)) start = Score(views, Y, opt.outlier_px);
       }
     }
     if (start.ok) {
