@@ -62,12 +62,14 @@ TEST_P(BenchmarkOnScene, PaperTripletsReachPointBasedSigmaWithFarFewerUnknowns) 
   ASSERT_TRUE(pb.metrics.sigma.Computable());
   ASSERT_TRUE(av.metrics.sigma.Computable());
   EXPECT_EQ(pl.refinement.poses.size(), scene.gt.images.size());
-  EXPECT_LE(pl.metrics.sigma.rms, 1.05 * pb.metrics.sigma.rms);
+  // Measured (seed 7): sigma 1.0091x (orbit), 1.0032x (aerial): the bar is 1.02x.
+  EXPECT_LE(pl.metrics.sigma.rms, 1.02 * pb.metrics.sigma.rms);
   EXPECT_LE(4 * pl.refinement.num_params, pb.refinement.num_params);
   EXPECT_LT(pl.metrics.sigma.rms, r.init_metrics.sigma.rms);
-  // Against the truth: the refinement does not lose what the initialisation had.
+  // Against the truth: the refinement does not lose what the initialisation had (measured
+  // 0.51x of the initial rotation error on the orbit, 0.99x on the aerial block).
   ASSERT_TRUE(pl.metrics.ground_truth && pl.metrics.ground_truth->ok);
-  EXPECT_LE(pl.metrics.ground_truth->rot_err_deg_median, 1.2 * r.init_metrics.ground_truth->rot_err_deg_median);
+  EXPECT_LE(pl.metrics.ground_truth->rot_err_deg_median, 1.03 * r.init_metrics.ground_truth->rot_err_deg_median);
 
   // Records: one sigma per iteration plus the start, starting at sigma_init, ending at the
   // final sigma; the JSON carries the ARCHITECTURE.md keys.
@@ -98,9 +100,11 @@ INSTANTIATE_TEST_SUITE_P(Scenarios, BenchmarkOnScene,
 
 // The default method, whole-track motions (whole_track_motions.h), on the acceptance scenes:
 // the poses are as accurate as the point-based BA's by the gauge-free metric (median and max
-// relative rotation error over all image pairs; measured 0.99-1.01x with seed 1 of
-// bench/pose_accuracy.sh), sigma within 0.5%, a quarter of the unknowns at most, and the
-// re-linearised steps kept only where they lowered the robust cost.
+// relative rotation error over all image pairs), sigma equal, a quarter of the unknowns at
+// most, and the re-linearised steps kept only where they lowered the robust cost. Measured
+// here (seed 7; pointless / point-based): median 1.002 / 0.994 / 1.018, max 1.000 / 0.962 /
+// 1.000, translation direction 1.000 / 0.984 / 1.017 (orbit / aerial / planar), sigma 1.0000;
+// the bounds sit ~1% above the worst of them.
 class DefaultOnScene : public ::testing::TestWithParam<Case> {};
 
 TEST_P(DefaultOnScene, PosesAsAccurateAsPointBased) {
@@ -122,10 +126,10 @@ TEST_P(DefaultOnScene, PosesAsAccurateAsPointBased) {
   const GroundTruthErrors& gl = *pl.metrics.ground_truth;
   const GroundTruthErrors& gb = *pb.metrics.ground_truth;
   ASSERT_GT(gl.num_pairs, 0u);
-  EXPECT_LE(gl.rel_rot_err_deg_median, 1.05 * gb.rel_rot_err_deg_median);
-  EXPECT_LE(gl.rel_rot_err_deg_max, 1.1 * gb.rel_rot_err_deg_max);
-  EXPECT_LE(gl.rel_dir_err_deg_median, 1.05 * gb.rel_dir_err_deg_median);
-  EXPECT_LE(pl.metrics.sigma.rms, 1.005 * pb.metrics.sigma.rms);
+  EXPECT_LE(gl.rel_rot_err_deg_median, 1.03 * gb.rel_rot_err_deg_median);
+  EXPECT_LE(gl.rel_rot_err_deg_max, 1.01 * gb.rel_rot_err_deg_max);
+  EXPECT_LE(gl.rel_dir_err_deg_median, 1.03 * gb.rel_dir_err_deg_median);
+  EXPECT_LE(pl.metrics.sigma.rms, 1.001 * pb.metrics.sigma.rms);
   EXPECT_LE(4 * pl.refinement.num_params, pb.refinement.num_params);
   const nlohmann::json j = r.ToJson();
   for (const char* key : {"rel_rot_err_deg_median", "rel_rot_err_deg_max", "rel_dir_err_deg_median"})

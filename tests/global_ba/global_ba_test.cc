@@ -78,8 +78,9 @@ TEST(GlobalBA, PointlessMatchesPointBasedAndBeatsAveraging) {
 
   ASSERT_EQ(pl.poses.size(), s.gt.size());
   EXPECT_EQ(pl.summary.num_params, 6 * 30 + 7 * static_cast<int>(s.th.triplets.size()));
-  EXPECT_LE(sigma_pl, 1.05 * sigma_pb);
-  EXPECT_LE(err_pl.rot_deg_median, 2.0 * err_pb.rot_deg_median);
+  // Measured: sigma 0.6227 / 0.6222 px (1.0008x), rotation 0.04548 / 0.04067 deg (1.12x).
+  EXPECT_LE(sigma_pl, 1.002 * sigma_pb);
+  EXPECT_LE(err_pl.rot_deg_median, 1.15 * err_pb.rot_deg_median);
   EXPECT_LE(err_pl.rot_deg_median, 0.05 * err_init.rot_deg_median);
   EXPECT_LE(err_pl.center_rel_median, 0.05 * err_init.center_rel_median);
   // Aver_BA runs on the same problem and improves on the start, but less than pointless.

@@ -73,8 +73,10 @@ TEST(Relinearization, TelephotoRingReachesPointBasedAccuracy) {
   EXPECT_GE(relin.summary.relinearizations, 1);
   EXPECT_LT(relin.summary.misfit_ratio, 1.0);
   // Re-linearised: rotations several times closer to the truth, sigma at the point-based one.
-  EXPECT_LT(e_relin.rot_deg_median, 0.5 * e_fixed.rot_deg_median);
-  EXPECT_LT(e_relin.rot_deg_median, 3.0 * e_pb.rot_deg_median);
+  // Measured: 0.0687 deg against 0.2559 single-linearised (0.27x) and 0.0419 point-based
+  // (1.64x: triplets on a telephoto ring, the paper's method, not the default motions).
+  EXPECT_LT(e_relin.rot_deg_median, 0.3 * e_fixed.rot_deg_median);
+  EXPECT_LT(e_relin.rot_deg_median, 1.7 * e_pb.rot_deg_median);
   EXPECT_LT(sg_relin, sg_fixed);
   EXPECT_LE(sg_relin, 1.02 * sg_pb);
   EXPECT_EQ(relin.summary.num_params, fixed.summary.num_params);
