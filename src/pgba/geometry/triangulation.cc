@@ -109,35 +109,64 @@ double HuberCost(const std::vector<TrackView>& views, const std::vector<size_t>&
   return std::isfinite(cost) ? cost : std::numeric_limits<double>::infinity();
 }
 
+// The Huber-IRLS normal equations of the views in `use` at X and their Huber cost (the same
+// sum as HuberCost); false if X is behind one of them.
+bool LinearizeHuber(const std::vector<TrackView>& views, const std::vector<size_t>& use, const Eigen::Vector3d& X,
+                    double k, Eigen::Matrix3d* H, Eigen::Vector3d* g, double* cost) {
+  H->setZero();
+  g->setZero();
+  *cost = 0.0;
+  for (size_t i : use) {
+    Eigen::Vector2d r;
+    Eigen::Matrix<double, 2, 3> J;
+    if (!Residual(views[i], X, &r, &J)) return false;
+    const double e = r.norm();
+    const double w = e <= k ? 1.0 : k / e;
+    *H += w * J.transpose() * J;
+    *g += w * J.transpose() * r;
+    *cost += Huber(e, k);
+  }
+  return std::isfinite(*cost);
+}
+
 // Huber-IRLS Gauss-Newton over the views in `use`, with step halving so that the cost never
 // increases and no used view ends behind its camera. False if X starts behind a used view.
+// The full step is tried by linearising at it (its cost comes with the next normal
+// equations, one projection pass per iteration instead of two); a refused one is halved.
 bool RefineGaussNewton(const std::vector<TrackView>& views, const std::vector<size_t>& use,
                        const TriangulationOptions& opt, Eigen::Vector3d* X) {
-  double cost = HuberCost(views, use, *X, opt.huber_px);
-  if (!std::isfinite(cost)) return false;
+  const double k = opt.huber_px;
+  Eigen::Matrix3d H;
+  Eigen::Vector3d g;
+  double cost;
+  if (!LinearizeHuber(views, use, *X, k, &H, &g, &cost)) return false;
   for (int it = 0; it < opt.max_iterations; ++it) {
-    Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
-    Eigen::Vector3d g = Eigen::Vector3d::Zero();
-    for (size_t i : use) {
-      Eigen::Vector2d r;
-      Eigen::Matrix<double, 2, 3> J;
-      Residual(views[i], *X, &r, &J);
-      const double e = r.norm();
-      const double w = e <= opt.huber_px ? 1.0 : opt.huber_px / e;
-      H += w * J.transpose() * J;
-      g += w * J.transpose() * r;
-    }
     Eigen::Vector3d dx = H.ldlt().solve(-g);
     if (!dx.allFinite()) break;
     bool improved = false;
-    for (int halving = 0; halving < 20 && !improved; ++halving, dx *= 0.5) {
-      const Eigen::Vector3d Y = *X + dx;
-      const double c = HuberCost(views, use, Y, opt.huber_px);
-      if (c <= cost) {
-        improved = true;
-        *X = Y;
-        cost = c;
+    Eigen::Matrix3d H_full;
+    Eigen::Vector3d g_full;
+    double c_full;
+    const Eigen::Vector3d full = *X + dx;
+    if (LinearizeHuber(views, use, full, k, &H_full, &g_full, &c_full) && c_full <= cost) {
+      improved = true;
+      *X = full;
+      cost = c_full;
+      H = H_full;
+      g = g_full;
+      dx *= 0.5;  // as the halving loop leaves it: the stop test below sees half the step
+    } else {
+      dx *= 0.5;
+      for (int halving = 1; halving < 20 && !improved; ++halving, dx *= 0.5) {
+        const Eigen::Vector3d Y = *X + dx;
+        const double c = HuberCost(views, use, Y, k);
+        if (c <= cost) {
+          improved = true;
+          *X = Y;
+          cost = c;
+        }
       }
+      if (improved && !LinearizeHuber(views, use, *X, k, &H, &g, &cost)) break;
     }
     // Converged when the step is below 1e-9 of the point's scale: ~1e-6 px at a focal of
     // 1000 px. A tighter test (1e-12) sat at the rounding level of the cost, so 6% of the
