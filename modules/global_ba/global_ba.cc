@@ -51,7 +51,7 @@ namespace {
 // One used motion: its local Hessian, weight matrix, similarity and IRLS state.
 struct MotionTerm {
   const LocalHessian* hessian = nullptr;
-  std::shared_ptr<const Eigen::MatrixXd> W;  // shared with its residuals (motion_residual.h)
+  MotionWeight W;  // shared with its residuals (motion_weight.h)
   Eigen::VectorXd newton_step;  // LocalHessian::newton_step (kHessian only; empty: zero)
   double unit = 1.0;  // ResidualUnit
   MotionSimilarity sim;
@@ -282,7 +282,7 @@ RoundSummary SolveRoundByBlocks(const GlobalBAOptions& options, int round, bool 
     if (options.weighting == TripletWeighting::kHessian) {
       term.h = &t.hessian->h;
     } else {
-      scalar_h.push_back(t.W->transpose() * *t.W);
+      scalar_h.push_back(t.W.Gram());
       term.h = &scalar_h.back();
     }
     for (const uint32_t id : t.hessian->image_ids) term.poses.push_back(index.at(id));
@@ -396,7 +396,7 @@ GlobalBAResult internal::RunGlobalBA(const std::map<uint32_t, Pose>& initial_pos
   for (int hi : sel.hessian_indices) {
     MotionTerm t;
     t.hessian = &hessians[hi];
-    t.W = std::make_shared<const Eigen::MatrixXd>(MotionWeightMatrix(*t.hessian, options));
+    t.W = MotionWeightOf(*t.hessian, options);
     // Aver_BA averages the relative motions themselves (scalar weights, no quadratic model).
     if (options.weighting == TripletWeighting::kHessian) t.newton_step = t.hessian->newton_step;
     t.unit = ResidualUnit(*t.hessian, options);

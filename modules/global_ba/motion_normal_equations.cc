@@ -64,7 +64,8 @@ TermSystem Linearize(const MotionBlockProblem& p, const MotionBlockTerm& t, cons
   Eigen::VectorXd dx;
   std::vector<Eigen::Matrix<double, 6, 13>> J;
   t.residual->Linearize(PosePointers(p, t), t.sim, IntrinsicPointers(p, t), &dx, &J);
-  const Eigen::VectorXd u = t.residual->W().transpose() * (t.residual->W() * dx - t.residual->offset());
+  const MotionWeight& W = t.residual->W();
+  const Eigen::VectorXd u = W.TransposeTimes(W.Times(dx) - t.residual->offset());
   s.A.resize(n);
   s.B.resize(n);
   for (int k = 0; k < n; ++k) {

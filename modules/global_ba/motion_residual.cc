@@ -10,14 +10,14 @@ using Jet13 = ceres::Jet<double, kVars>;
 }  // namespace
 
 MotionResidual::MotionResidual(const std::vector<Eigen::Matrix3d>& R0, const MotionSimilarity& sim,
-                               const std::vector<Pose>& x0, std::shared_ptr<const Eigen::MatrixXd> W,
+                               const std::vector<Pose>& x0, MotionWeight W,
                                const Eigen::VectorXd& newton_step, const Eigen::VectorXd& intrinsics0,
                                const std::vector<int>& intrinsic_sizes)
     : W_(std::move(W)), intrinsics0_(intrinsics0), intrinsic_sizes_(intrinsic_sizes) {
   const int n = static_cast<int>(x0.size());
   const int rows = 6 * n + num_intrinsics();
   for (int k = 0; k < n; ++k) views_.push_back({sim.alpha0, sim.G, x0[k].R().transpose() * R0[k], x0[k].C()});
-  offset_ = newton_step.size() == rows ? Eigen::VectorXd(*W_ * newton_step) : Eigen::VectorXd::Zero(rows);
+  offset_ = newton_step.size() == rows ? W_.Times(newton_step) : Eigen::VectorXd::Zero(rows);
   set_num_residuals(rows);
   for (int k = 0; k < n; ++k) mutable_parameter_block_sizes()->push_back(6);
   mutable_parameter_block_sizes()->push_back(7);
@@ -39,7 +39,7 @@ Eigen::VectorXd MotionResidual::Deviation(const std::vector<const double*>& pose
 
 Eigen::VectorXd MotionResidual::Evaluate(const std::vector<const double*>& poses, const double* sim,
                                          const std::vector<const double*>& intrinsics) const {
-  return *W_ * Deviation(poses, sim, intrinsics) - offset_;
+  return W_.Times(Deviation(poses, sim, intrinsics)) - offset_;
 }
 
 void MotionResidual::Linearize(const std::vector<const double*>& poses, const double* sim,
@@ -77,16 +77,16 @@ bool MotionResidual::Evaluate(double const* const* parameters, double* residuals
   std::vector<Eigen::Matrix<double, 6, kVars>> J;
   Linearize(poses, sim, intrinsics, &dx, &J);
   Eigen::Matrix<double, Eigen::Dynamic, 7> J_sim = Eigen::Matrix<double, Eigen::Dynamic, 7>::Zero(rows, 7);
-  for (int k = 0; k < n; ++k) {
-    const auto W_k = W_->middleCols<6>(6 * k);  // the columns of W that view k's deviation meets
-    if (jacobians[k]) Eigen::Map<RowMajor>(jacobians[k], rows, 6) = W_k * J[k].leftCols<6>();
-    J_sim.noalias() += W_k * J[k].rightCols<7>();
+  for (int k = 0; k < n; ++k) {  // the columns of W that view k's deviation meets
+    if (jacobians[k]) Eigen::Map<RowMajor>(jacobians[k], rows, 6) = W_.ColumnsTimes(6 * k, J[k].leftCols<6>());
+    J_sim.noalias() += W_.ColumnsTimes(6 * k, J[k].rightCols<7>());
   }
-  r = *W_ * dx - offset_;
+  r = W_.Times(dx) - offset_;
   if (jacobians[n]) Eigen::Map<RowMajor>(jacobians[n], rows, 7) = J_sim;
   for (size_t c = 0, col = 6 * n; c < intrinsic_sizes_.size(); col += intrinsic_sizes_[c], ++c)
     if (jacobians[n + 1 + c])  // d dx / d kappa_c = I: the columns of W that kappa_c meets
-      Eigen::Map<RowMajor>(jacobians[n + 1 + c], rows, intrinsic_sizes_[c]) = W_->middleCols(col, intrinsic_sizes_[c]);
+      Eigen::Map<RowMajor>(jacobians[n + 1 + c], rows, intrinsic_sizes_[c]) =
+          W_.ColumnsTimes(static_cast<int>(col), Eigen::MatrixXd::Identity(intrinsic_sizes_[c], intrinsic_sizes_[c]));
   return true;
 }
 

@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "modules/global_ba/motion_similarity.h"
+#include "modules/global_ba/motion_weight.h"
 #include "modules/local_hessian/local_hessian.h"
 
 namespace pgba {
@@ -62,17 +63,15 @@ class MotionResidual : public ceres::CostFunction {
  public:
   // R0: reference rotations of the N global pose blocks; x0: the motion's local poses.
   // `intrinsics0` (K values) and `intrinsic_sizes` (per camera, summing to K): the intrinsic
-  // rows of h; W is then (6N + K) square. W is shared, not copied: the global BA makes a
-  // residual per motion for every round and fitting error, and copying the (6N + K)^2 matrix
-  // each time cost a quarter of its solve time on whole-track motions.
+  // rows of h; W is then (6N + K) square. W is factored and shared, not copied (motion_weight.h):
+  // the global BA makes a residual per motion for every round and fitting error.
   MotionResidual(const std::vector<Eigen::Matrix3d>& R0, const MotionSimilarity& sim, const std::vector<Pose>& x0,
-                 std::shared_ptr<const Eigen::MatrixXd> W, const Eigen::VectorXd& newton_step = Eigen::VectorXd(),
+                 MotionWeight W, const Eigen::VectorXd& newton_step = Eigen::VectorXd(),
                  const Eigen::VectorXd& intrinsics0 = Eigen::VectorXd(), const std::vector<int>& intrinsic_sizes = {});
   MotionResidual(const std::vector<Eigen::Matrix3d>& R0, const MotionSimilarity& sim, const std::vector<Pose>& x0,
                  const Eigen::MatrixXd& W, const Eigen::VectorXd& newton_step = Eigen::VectorXd(),
                  const Eigen::VectorXd& intrinsics0 = Eigen::VectorXd(), const std::vector<int>& intrinsic_sizes = {})
-      : MotionResidual(R0, sim, x0, std::make_shared<const Eigen::MatrixXd>(W), newton_step, intrinsics0,
-                       intrinsic_sizes) {}
+      : MotionResidual(R0, sim, x0, MotionWeight::Dense(W), newton_step, intrinsics0, intrinsic_sizes) {}
 
   int num_views() const { return static_cast<int>(views_.size()); }
   int num_intrinsics() const { return static_cast<int>(intrinsics0_.size()); }
@@ -96,7 +95,7 @@ class MotionResidual : public ceres::CostFunction {
   void Linearize(const std::vector<const double*>& poses, const double* sim,
                  const std::vector<const double*>& intrinsics, Eigen::VectorXd* dx,
                  std::vector<Eigen::Matrix<double, 6, 13>>* J) const;
-  const Eigen::MatrixXd& W() const { return *W_; }
+  const MotionWeight& W() const { return W_; }
   const Eigen::VectorXd& offset() const { return offset_; }
 
  private:
@@ -104,7 +103,7 @@ class MotionResidual : public ceres::CostFunction {
   void IntrinsicDeviation(const std::vector<const double*>& intrinsics, double* out) const;
 
   std::vector<ViewDeviation> views_;
-  std::shared_ptr<const Eigen::MatrixXd> W_;
+  MotionWeight W_;
   Eigen::VectorXd offset_;  // W_s n_s
   Eigen::VectorXd intrinsics0_;
   std::vector<int> intrinsic_sizes_;

@@ -5,8 +5,11 @@
 
 namespace pgba {
 
-Eigen::MatrixXd MotionWeightMatrix(const LocalHessian& hessian, const GlobalBAOptions& options) {
-  if (options.weighting == TripletWeighting::kHessian) return hessian.D.asDiagonal() * hessian.V;
+MotionWeight MotionWeightOf(const LocalHessian& hessian, const GlobalBAOptions& options) {
+  // The local Hessian's factors, not copied: they outlive every residual of the global BA.
+  if (options.weighting == TripletWeighting::kHessian)
+    return MotionWeight(std::shared_ptr<const Eigen::VectorXd>(std::shared_ptr<void>(), &hessian.D),
+                        std::shared_ptr<const Eigen::MatrixXd>(std::shared_ptr<void>(), &hessian.V));
   const int n = 6 * hessian.num_views();
   Eigen::VectorXd w(n + hessian.num_intrinsics());
   const double wp = 1.0 / (options.scalar_position_sigma * hessian.depth_scale);
@@ -16,7 +19,7 @@ Eigen::MatrixXd MotionWeightMatrix(const LocalHessian& hessian, const GlobalBAOp
   // off moves the image like a 1e-3 rad rotation), distortion coefficients absolutely.
   for (int i = 0; i < hessian.num_intrinsics(); ++i)
     w(n + i) = wr / std::max(1.0, std::abs(hessian.intrinsics0(i)));
-  return w.asDiagonal();
+  return MotionWeight(std::make_shared<const Eigen::VectorXd>(std::move(w)), nullptr);
 }
 
 double ResidualUnit(const LocalHessian& hessian, const GlobalBAOptions& options) {

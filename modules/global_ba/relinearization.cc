@@ -150,7 +150,7 @@ double Displacement(const GlobalBAResult& result, const std::vector<LocalHessian
     }
     for (const PoseBlock& b : blocks) x.push_back(b.x.data());
     const MotionSimilarity sim = SimilarityFromSim3(global, result.similarities[i]);
-    const MotionResidual f(R0, sim, h.local_poses, MotionWeightMatrix(h, options), Eigen::VectorXd(), h.intrinsics0,
+    const MotionResidual f(R0, sim, h.local_poses, MotionWeightOf(h, options), Eigen::VectorXd(), h.intrinsics0,
                            IntrinsicSizes(h));
     std::vector<const double*> k;
     for (const uint32_t id : h.intrinsic_camera_ids) k.push_back(result.intrinsics.at(id).values.data());
