@@ -202,31 +202,39 @@ bool InFrontOfBoth(const Eigen::Matrix3d& R_21, const Eigen::Vector3d& t_21, con
   return l1 > 0 && l2 > 0;
 }
 
-RelativePoseResult EstimateRelativePose(const std::vector<Eigen::Vector3d>& bearings1,
-                                        const std::vector<Eigen::Vector3d>& bearings2, double focal_px,
-                                        const RelativePoseOptions& options) {
+namespace {
+
+void CheckInputs(const std::vector<Eigen::Vector3d>& bearings1, const std::vector<Eigen::Vector3d>& bearings2,
+                 double focal_px, const RelativePoseOptions& options, const char* caller) {
   if (bearings1.size() != bearings2.size())
-    throw std::invalid_argument("EstimateRelativePose: bearing lists differ in size");
+    throw std::invalid_argument(std::string(caller) + ": bearing lists differ in size");
   if (!(focal_px > 0) || !(options.threshold_px > 0))
-    throw std::invalid_argument("EstimateRelativePose: focal and threshold must be positive");
+    throw std::invalid_argument(std::string(caller) + ": focal and threshold must be positive");
   for (size_t i = 0; i < bearings1.size(); ++i)
     if (!bearings1[i].allFinite() || !bearings2[i].allFinite())
-      throw std::invalid_argument("EstimateRelativePose: non-finite bearing");
-  RelativePoseResult result;
-  result.inlier_mask.assign(bearings1.size(), 0);
-  // 5 points for the solver + 3 that OpenGV uses to pick among its solutions.
-  if (bearings1.size() < 8 || static_cast<int>(bearings1.size()) < options.min_inliers) return result;
+      throw std::invalid_argument(std::string(caller) + ": non-finite bearing");
+}
 
+// RefineRelativePose's first pass classifies with this many times the threshold, and it
+// then refines and re-classifies this many times (RANSAC's pose: twice). Measured on a
+// synthetic orbit from the truth disturbed by 0.1 deg (view_graph_test.cc): with 2 passes
+// the weak pairs stopped short along their flat direction (90th percentile of the rotation
+// errors 0.217 deg against RANSAC's 0.205); with 4 they reach RANSAC's 0.205.
+constexpr double kRefineStartThresholdFactor = 4.0;
+constexpr int kRefineStartPasses = 4;
+
+// Everything after the minimal solver: inliers of (R, t), the refinement passes, the median
+// triangulation angle and the rotation's standard deviation.
+RelativePoseResult FinishFromModel(const std::vector<Eigen::Vector3d>& bearings1,
+                                   const std::vector<Eigen::Vector3d>& bearings2, double focal_px,
+                                   const RelativePoseOptions& options, int passes, Eigen::Matrix3d R,
+                                   Eigen::Vector3d t, RelativePoseResult result) {
   const double threshold_angle = std::atan(options.threshold_px / focal_px);
-  Eigen::Matrix3d R;
-  Eigen::Vector3d t;
-  if (!RunRansac(bearings1, bearings2, threshold_angle, options, &R, &t, &result.ransac_iterations)) return result;
-
   std::vector<uint8_t> mask;
   int n = Classify(bearings1, bearings2, R, t, threshold_angle, &mask);
   if (options.refine) {
-    // Refine, re-classify with the better model, refine once more on the final inlier set.
-    for (int pass = 0; pass < 2 && n >= 5; ++pass) {
+    // Refine, re-classify with the better model, refine again on the new inlier set.
+    for (int pass = 0; pass < passes && n >= 5; ++pass) {
       Refine(bearings1, bearings2, mask, focal_px, options, &R, &t);
       n = Classify(bearings1, bearings2, R, t, threshold_angle, &mask);
     }
@@ -249,6 +257,47 @@ RelativePoseResult EstimateRelativePose(const std::vector<Eigen::Vector3d>& bear
   result.rotation_sd_deg = RotationSdDeg(bearings1, bearings2, result.inlier_mask, R, t, focal_px);
   result.success = n >= options.min_inliers;
   return result;
+}
+
+}  // namespace
+
+RelativePoseResult EstimateRelativePose(const std::vector<Eigen::Vector3d>& bearings1,
+                                        const std::vector<Eigen::Vector3d>& bearings2, double focal_px,
+                                        const RelativePoseOptions& options) {
+  CheckInputs(bearings1, bearings2, focal_px, options, "EstimateRelativePose");
+  RelativePoseResult result;
+  result.inlier_mask.assign(bearings1.size(), 0);
+  // 5 points for the solver + 3 that OpenGV uses to pick among its solutions.
+  if (bearings1.size() < 8 || static_cast<int>(bearings1.size()) < options.min_inliers) return result;
+
+  const double threshold_angle = std::atan(options.threshold_px / focal_px);
+  Eigen::Matrix3d R;
+  Eigen::Vector3d t;
+  if (!RunRansac(bearings1, bearings2, threshold_angle, options, &R, &t, &result.ransac_iterations)) return result;
+  return FinishFromModel(bearings1, bearings2, focal_px, options, /*passes=*/2, R, t, std::move(result));
+}
+
+RelativePoseResult RefineRelativePose(const std::vector<Eigen::Vector3d>& bearings1,
+                                      const std::vector<Eigen::Vector3d>& bearings2, double focal_px,
+                                      const RelativePoseOptions& options, const Eigen::Matrix3d& R_21,
+                                      const Eigen::Vector3d& t_21) {
+  CheckInputs(bearings1, bearings2, focal_px, options, "RefineRelativePose");
+  if (!R_21.allFinite() || !t_21.allFinite() || !(t_21.norm() > 0))
+    throw std::invalid_argument("RefineRelativePose: non-finite or zero starting pose");
+  RelativePoseResult result;
+  result.inlier_mask.assign(bearings1.size(), 0);
+  if (static_cast<int>(bearings1.size()) < std::max(options.min_inliers, 5)) return result;
+  // The start was fitted to other correspondences: under the threshold it may see only part
+  // of these inliers (a 0.1 degree rotation is 1.7 px at f = 1000), and a refinement on that
+  // part can settle elsewhere. One pass on the consensus of a wider threshold first.
+  Eigen::Matrix3d R = ClosestRotation(R_21);
+  Eigen::Vector3d t = t_21.normalized();
+  if (options.refine) {
+    std::vector<uint8_t> mask;
+    const double wide = std::atan(kRefineStartThresholdFactor * options.threshold_px / focal_px);
+    if (Classify(bearings1, bearings2, R, t, wide, &mask) >= 5) Refine(bearings1, bearings2, mask, focal_px, options, &R, &t);
+  }
+  return FinishFromModel(bearings1, bearings2, focal_px, options, kRefineStartPasses, R, t, std::move(result));
 }
 
 }  // namespace pgba
