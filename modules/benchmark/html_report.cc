@@ -129,6 +129,9 @@ std::string RunReportHtml(const HtmlReportInput& in) {
     const std::string note = ConvergenceSampleNote(in);
     Row(h, "sigma initial poses (px" + note + ")", FormatNumber("%.4f", in.convergence->front()));
     Row(h, "sigma final (px" + note + ")", FormatNumber("%.4f", in.convergence->back()));
+    // The sample's sigma is the curve's scale, not the result's: say the exact one beside it.
+    if (!note.empty() && in.metrics && in.metrics->sigma.Computable())
+      Row(h, "sigma final (px, every track)", FormatNumber("%.4f", in.metrics->sigma.rms));
   }
   if (in.metrics) {
     if (in.metrics->sigma.Computable()) {
