@@ -63,30 +63,30 @@ void WithCatalogCameras(const FeatureExtractionResult& features, Reconstruction*
   if (same_ids) tracks->cameras = features.index.cameras;
 }
 
-// The tracks and the front end's verified geometries the view graph starts from.
-struct FrontEndOutput {
-  Reconstruction tracks;
-  std::optional<std::vector<TwoViewGeometry>> geometries;  // none: a workspace from before they were kept
-};
+// The front end's verified geometries the view graph starts from; none for a workspace from
+// before they were kept.
+using FrontEndGeometries = std::optional<std::vector<TwoViewGeometry>>;
 
-FrontEndOutput MatchOrReuse(const FeatureExtractionResult& features, const fs::path& out,
-                            const MatchingOptions& options, Report* report, const char* stage_name = "match") {
+// The tracks (into `tracks`) and their verified geometries, matched or from the workspace.
+FrontEndGeometries MatchOrReuse(const FeatureExtractionResult& features, const fs::path& out,
+                                const MatchingOptions& options, Report* report, Reconstruction* tracks,
+                                const char* stage_name = "match") {
   const nlohmann::json key = TracksKey(features, options);
   StageTimer timer(report, stage_name);
-  FrontEndOutput result;
+  FrontEndGeometries result;
   if (CachedTracksValid(out, key)) {
-    result.tracks = ReadColmapText((out / "tracks").string());
-    WithCatalogCameras(features, &result.tracks);
+    *tracks = ReadColmapText((out / "tracks").string());
+    WithCatalogCameras(features, tracks);
     // Written with the tracks (WriteMatchingResult), so they describe the same images.
     const std::string geometries = FrontEndGeometriesPath(out.string());
     if (fs::exists(geometries)) {
-      result.geometries = ReadFrontEndGeometries(geometries, result.tracks);
+      result = ReadFrontEndGeometries(geometries, *tracks);
     } else {
       PGBA_LOG_WARN << geometries << ": missing, the view graph estimates every pair from the tracks";
     }
     nlohmann::json& stage = timer.Stop();
     stage["cached"] = true;
-    stage["tracks"] = result.tracks.points3D.size();
+    stage["tracks"] = tracks->points3D.size();
     PGBA_LOG_INFO << "match: reusing " << (out / "tracks").string() << " (same features and options)";
     return result;
   }
@@ -97,17 +97,15 @@ FrontEndOutput MatchOrReuse(const FeatureExtractionResult& features, const fs::p
   nlohmann::json& stage = timer.Stop();
   stage.update(MatchingRecord(r));
   stage["cached"] = false;
-  result.tracks = std::move(r.tracks);
+  *tracks = std::move(r.tracks);
   // Read back as a re-run reads them (17 significant digits), so that a run from cached
   // tracks gives the same poses as the run that matched.
-  result.geometries = ReadFrontEndGeometries(FrontEndGeometriesPath(out.string()), result.tracks);
-  return result;
+  return ReadFrontEndGeometries(FrontEndGeometriesPath(out.string()), *tracks);
 }
 
-ReconstructionOutput ReconstructFromFrontEnd(const FrontEndOutput& front_end, const ReconstructionOptions& options,
-                                             Report* report) {
-  return Reconstruct(front_end.tracks, options, report, /*record_convergence=*/true,
-                     front_end.geometries ? &*front_end.geometries : nullptr);
+ReconstructionOutput ReconstructFromFrontEnd(const Reconstruction& tracks, const FrontEndGeometries& geometries,
+                                             const ReconstructionOptions& options, Report* report) {
+  return Reconstruct(tracks, options, report, /*record_convergence=*/true, geometries ? &*geometries : nullptr);
 }
 
 }  // namespace
@@ -126,8 +124,7 @@ RunOutput RunPipeline(const std::string& images_dir, const CalibrationInput& cal
   if (features.index.images.size() < 3)
     throw InputError(images_dir + ": " + std::to_string(features.index.images.size()) +
                      " usable image(s); a reconstruction needs at least 3 overlapping images");
-  FrontEndOutput front_end = MatchOrReuse(features, ws, options.matching, report);
-  result.tracks = front_end.tracks;
+  FrontEndGeometries geometries = MatchOrReuse(features, ws, options.matching, report, &result.tracks);
   if (result.tracks.points3D.empty())
     throw InputError(images_dir + ": no verified matches between the images (do they overlap?)");
 
@@ -137,7 +134,7 @@ RunOutput RunPipeline(const std::string& images_dir, const CalibrationInput& cal
   reconstruction.refinement.calibration_is_prior =
       options.calibration_is_prior || features.calibration_source.rfind("file:", 0) != 0;
   (*report)["calibration_is_prior"] = reconstruction.refinement.calibration_is_prior;
-  result.reconstruction = ReconstructFromFrontEnd(front_end, reconstruction, report);
+  result.reconstruction = ReconstructFromFrontEnd(result.tracks, geometries, reconstruction, report);
 
   // The tracks were verified with the cameras before self-calibration; when it moved them by
   // more than calibration.rematch_shift_px, match again with the refined cameras (written to
@@ -154,10 +151,9 @@ RunOutput RunPipeline(const std::string& images_dir, const CalibrationInput& cal
     for (auto& [id, cam] : recalibrated.index.cameras) cam.has_prior_focal_length = true;  // estimated now
     WriteFeatureIndex(out, recalibrated.index);
     // The second matching verifies with the refined cameras: its geometries hold for them.
-    front_end = MatchOrReuse(recalibrated, ws, options.matching, report, "match_recalibrated");
-    result.tracks = front_end.tracks;
+    geometries = MatchOrReuse(recalibrated, ws, options.matching, report, &result.tracks, "match_recalibrated");
     WriteFeatureIndex(out, features.index);
-    result.reconstruction = ReconstructFromFrontEnd(front_end, reconstruction, report);
+    result.reconstruction = ReconstructFromFrontEnd(result.tracks, geometries, reconstruction, report);
   }
   (*report)["rematch_shift_px"] = shift;
   WriteReconstruction(out, result.tracks, result.reconstruction);

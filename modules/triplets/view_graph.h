@@ -36,11 +36,14 @@ struct PairOptions {
   // What becomes of a candidate the image front end verified (only when its geometries are
   // given, i.e. `pgba run`):
   //   "refine"   (default) its pose starts the refinement on the pair's shared-track
-  //              correspondences: the inliers are classified with relative_pose.threshold_px,
-  //              refined as after RANSAC and the tests above apply, without a second RANSAC;
-  //              a pair that fails them is estimated by RANSAC as without a front end;
+  //              correspondences (RefineRelativePose: inliers classified with
+  //              relative_pose.threshold_px, one refinement pass) and the tests above apply,
+  //              without a second RANSAC; a pair that fails them is estimated by RANSAC as
+  //              without a front end;
   //   "reuse"    its pose and inlier count as they are (only min_inliers and the
-  //              triangulation-angle test apply);
+  //              triangulation-angle test apply): a 4x faster stage, but entry_p10's
+  //              relative rotation max 0.0763 deg against 0.0752-0.0753 with RANSAC's
+  //              seeds 1-3 (README "Measured: front-end speed (issue 16)");
   //   "estimate" RANSAC on the shared tracks, as without a front end.
   std::string front_end = "refine";
   // With the front end's geometries: whether candidates it did not verify (pairs it
