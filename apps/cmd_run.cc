@@ -77,7 +77,9 @@ void RegisterRun(CLI::App& app) {
     page.title = "pgba run: " + args->images;
     page.report = &report.json();
     page.model = &rec.model;
-    page.convergence = &rec.convergence;
+    page.convergence = &rec.convergence.sigma;
+    page.convergence_tracks = rec.convergence.tracks_evaluated;
+    page.convergence_tracks_total = rec.convergence.tracks_total;
     page.metrics = &metrics;
     // The front end's verified pairs (absent when the tracks came from elsewhere).
     ViewGraphPicture view_graph;

@@ -12,6 +12,14 @@
 namespace pgba {
 namespace {
 
+// ", sample of N of M tracks" when the convergence curve covers only some of the tracks
+// (mapper/convergence_curve.h), "" otherwise.
+std::string ConvergenceSampleNote(const HtmlReportInput& in) {
+  if (in.convergence_tracks == 0 || in.convergence_tracks >= in.convergence_tracks_total) return "";
+  return ", sample of " + std::to_string(in.convergence_tracks) + " of " + std::to_string(in.convergence_tracks_total) +
+         " tracks";
+}
+
 void Row(std::ostringstream& h, const std::string& key, const std::string& value) {
   h << "<tr><th>" << XmlEscape(key) << "</th><td>" << XmlEscape(value) << "</td></tr>\n";
 }
@@ -118,8 +126,12 @@ std::string RunReportHtml(const HtmlReportInput& in) {
   }
   if (r.contains("params")) Row(h, "unknowns of the pointless global BA", std::to_string(r["params"].get<long>()));
   if (in.convergence && !in.convergence->empty()) {
-    Row(h, "sigma initial poses (px)", FormatNumber("%.4f", in.convergence->front()));
-    Row(h, "sigma final (px)", FormatNumber("%.4f", in.convergence->back()));
+    const std::string note = ConvergenceSampleNote(in);
+    Row(h, "sigma initial poses (px" + note + ")", FormatNumber("%.4f", in.convergence->front()));
+    Row(h, "sigma final (px" + note + ")", FormatNumber("%.4f", in.convergence->back()));
+    // The sample's sigma is the curve's scale, not the result's: say the exact one beside it.
+    if (!note.empty() && in.metrics && in.metrics->sigma.Computable())
+      Row(h, "sigma final (px, every track)", FormatNumber("%.4f", in.metrics->sigma.rms));
   }
   if (in.metrics) {
     if (in.metrics->sigma.Computable()) {
@@ -172,7 +184,7 @@ std::string RunReportHtml(const HtmlReportInput& in) {
     PlotSeries s{"pointless global BA", {}, *in.convergence};
     for (size_t i = 0; i < s.y.size(); ++i) s.x.push_back(static_cast<double>(i));
     PlotOptions o;
-    o.title = "sigma per iteration";
+    o.title = "sigma per iteration" + ConvergenceSampleNote(in);
     o.x_label = "iteration";
     o.y_label = "sigma (px)";
     o.log_y = true;

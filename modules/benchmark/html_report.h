@@ -19,6 +19,8 @@ struct HtmlReportInput {
   const nlohmann::json* report = nullptr;    // report.json (stages with "seconds" and "order")
   const Reconstruction* model = nullptr;     // the final model
   const std::vector<double>* convergence = nullptr;  // sigma per iteration (may be empty)
+  // Tracks the convergence curve was evaluated on, of all (a sample when fewer; 0: not said).
+  size_t convergence_tracks = 0, convergence_tracks_total = 0;
   const EvaluationMetrics* metrics = nullptr;        // of the final model (may be null)
   const ViewGraphPicture* view_graph = nullptr;      // the front end's verified pairs (may be null)
 };

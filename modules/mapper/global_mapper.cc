@@ -24,6 +24,8 @@ void AddGlobalMapperSections(ConfigSchema* schema) {
 
 void ReadGlobalMapperOptions(const Config& config, GlobalMapperOptions* options) {
   ReadSection(config, "pairs", &options->pairs);
+  const std::string pairs_problem = options->pairs.Check();
+  if (!pairs_problem.empty()) ThrowInputError(config.origin(), 0, "pairs." + pairs_problem);
   ReadSection(config, "calibration", &options->calibration);
   const std::string problem = options->calibration.Check();
   if (!problem.empty()) ThrowInputError(config.origin(), 0, "calibration." + problem);
@@ -33,12 +35,13 @@ void ReadGlobalMapperOptions(const Config& config, GlobalMapperOptions* options)
 
 namespace {
 
-// Step 1 (and 2b): the verified pairs of `tracks` with its cameras.
+// Step 1 (and 2b): the verified pairs of `tracks` with its cameras, from the front end's
+// geometries where given.
 std::vector<TwoViewGeometry> VerifyPairs(const Reconstruction& tracks, const PairOptions& options, Report* report,
-                                         const char* stage) {
+                                         const char* stage, const std::vector<TwoViewGeometry>* front_end) {
   StageTimer timer(report, stage);
   PairStats stats;
-  std::vector<TwoViewGeometry> pairs = EstimatePairs(tracks, options, &stats);
+  std::vector<TwoViewGeometry> pairs = EstimatePairs(tracks, options, &stats, front_end);
   timer.Stop().update(ToJson(stats));
   PGBA_LOG_INFO << stage << ": " << pairs.size() << " verified of " << stats.pairs_estimated << " estimated";
   return pairs;
@@ -85,21 +88,22 @@ bool CamerasChanged(const Reconstruction& tracks, const std::map<uint32_t, Camer
 }
 
 GlobalMapperResult RunGlobalMapper(const Reconstruction& input_tracks, const GlobalMapperOptions& options,
-                                   Report* report) {
+                                   Report* report, const std::vector<TwoViewGeometry>* front_end) {
   GlobalMapperResult result;
   if (input_tracks.images.size() < 3)
     throw InputError("tracks: at least 3 images are needed, got " + std::to_string(input_tracks.images.size()));
   result.cameras = input_tracks.cameras;
-  result.pairs = VerifyPairs(input_tracks, options.pairs, report, "pairs");
+  result.pairs = VerifyPairs(input_tracks, options.pairs, report, "pairs", front_end);
   if (result.pairs.empty()) throw InputError("tracks: no image pair could be verified (too few shared tracks?)");
 
   EstimateFocals(input_tracks, options.calibration, report, &result);
   // With new focals the pairs' relative poses (and inliers) are estimated again, and every
-  // later stage sees the new cameras.
+  // later stage sees the new cameras. The front end verified with the old focals: its
+  // geometries do not hold for the new bearings.
   std::optional<Reconstruction> recalibrated;
   if (CamerasChanged(input_tracks, result.cameras)) {
     recalibrated = TracksWithCameras(input_tracks, result.cameras);
-    result.pairs = VerifyPairs(*recalibrated, options.pairs, report, "pairs_recalibrated");
+    result.pairs = VerifyPairs(*recalibrated, options.pairs, report, "pairs_recalibrated", nullptr);
     if (result.pairs.empty())
       throw InputError("tracks: no image pair could be verified with the focals from the view graph");
   }

@@ -1,6 +1,6 @@
 // The global mapper: the pipeline from tracks to an initial global solution, reading like
 // the paper's steps 2 (relative motions and initial global solution):
-//   1. verified pairs
+//   1. verified pairs (from the image front end's geometries where `pgba run` has them)
 //   2. focals from the view graph for the cameras without a prior focal (modules/calibration;
 //      section "calibration", "cameras": "none" skips it); if a focal changed, the pairs
 //      are verified again with it
@@ -50,8 +50,10 @@ struct GlobalMapperResult {
 // Runs every stage, recording timings and statistics in `report` (stages "pairs",
 // "focal_estimation" when a camera is estimated, "pairs_recalibrated" when a focal changed,
 // "triplets", "global_init"). Throws InputError when no reconstruction is possible (no
-// verified pair, no triplet, averaging failed) with the reason.
-GlobalMapperResult RunGlobalMapper(const Reconstruction& tracks, const GlobalMapperOptions& options, Report* report);
+// verified pair, no triplet, averaging failed) with the reason. `front_end`: the image front
+// end's verified geometries of these tracks (`pgba run`), or null (EstimatePairs).
+GlobalMapperResult RunGlobalMapper(const Reconstruction& tracks, const GlobalMapperOptions& options, Report* report,
+                                   const std::vector<TwoViewGeometry>* front_end = nullptr);
 
 // `tracks` with `cameras` in place of its own (a copy; the same ids are expected).
 Reconstruction TracksWithCameras(const Reconstruction& tracks, const std::map<uint32_t, Camera>& cameras);

@@ -18,12 +18,16 @@ void AddReconstructionSections(ConfigSchema* schema) {
   AddGlobalMapperSections(schema);
   AddRefinementSections(schema);
   schema->Add("gcp", GcpOptions{});
+  schema->Add("convergence", ConvergenceOptions{});
 }
 
 void ReadReconstructionOptions(const Config& config, ReconstructionOptions* options) {
   ReadGlobalMapperOptions(config, &options->mapper);
   ReadRefinementOptions(config, &options->refinement);
   ReadSection(config, "gcp", &options->gcp);
+  ReadSection(config, "convergence", &options->convergence);
+  const std::string problem = options->convergence.Check();
+  if (!problem.empty()) ThrowInputError(config.origin(), 0, "convergence." + problem);
 }
 
 namespace {
@@ -82,9 +86,9 @@ void Refine(const Reconstruction& tracks, const ReconstructionOptions& options, 
   if (gcps) CheckFinalGcps(*gcps, out->refined.poses, report);
   if (record_convergence) {
     StageTimer timer(report, "convergence");
-    for (const auto& poses : out->refined.history) out->convergence.push_back(EvaluateSigma(tracks, poses).rms);
+    out->convergence = EvaluateConvergence(tracks, out->refined.history, options.convergence);
     out->refined.history.clear();
-    timer.Stop()["iterations"] = out->convergence.size();
+    timer.Stop().update(out->convergence.ToJson());
   }
   if (!out->refined.cameras.empty()) {
     (*report)["intrinsics"] = out->refined.intrinsics;
@@ -118,13 +122,13 @@ void Refine(const Reconstruction& tracks, const ReconstructionOptions& options, 
 }  // namespace
 
 ReconstructionOutput Reconstruct(const Reconstruction& tracks, const ReconstructionOptions& options, Report* report,
-                                 bool record_convergence) {
+                                 bool record_convergence, const std::vector<TwoViewGeometry>* front_end) {
   ReconstructionOutput out;
   GlobalMapperOptions mapper = options.mapper;
   // Self-calibration reaches back to the triplet BA: a calibration that is only a prior bends
   // the relative motions the averaging starts from (TripletOptions::refine_intrinsics).
   if (!SelectRefinedIntrinsics(tracks, options.refinement).empty()) mapper.triplets.refine_intrinsics = true;
-  out.init = RunGlobalMapper(tracks, mapper, report);
+  out.init = RunGlobalMapper(tracks, mapper, report, front_end);
   if (CamerasChanged(tracks, out.init.cameras)) {  // focals from the view graph
     Refine(TracksWithCameras(tracks, out.init.cameras), options, report, record_convergence, /*hessians_given=*/false,
            &out);

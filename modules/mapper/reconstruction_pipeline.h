@@ -7,6 +7,7 @@
 #include <string>
 
 #include "global_ba/gcp_alignment.h"
+#include "mapper/convergence_curve.h"
 #include "mapper/global_mapper.h"
 #include "mapper/pose_refinement.h"
 #include "pgba/io/json_config.h"
@@ -22,6 +23,8 @@ struct ReconstructionOptions {
   // GCP frame and the pointless global BA gets GCP residuals (gcp_residual.h).
   std::string gcp_path;
   GcpOptions gcp;  // section "gcp"
+  // The sigma curve of `pgba run`'s report (Reconstruct with record_convergence).
+  ConvergenceOptions convergence;  // section "convergence"
 };
 void AddReconstructionSections(ConfigSchema* schema);
 void ReadReconstructionOptions(const Config& config, ReconstructionOptions* options);
@@ -31,17 +34,19 @@ struct ReconstructionOutput {
   PreparedHessians hessians;
   RefinementResult refined;
   Reconstruction model;  // the tracks triangulated with the refined poses
-  // sigma_rms of the tracks before and after every iteration of the pointless global BA
-  // (paper Figure 3), if requested.
-  std::vector<double> convergence;
+  // sigma_rms of (a sample of) the tracks before and after every iteration of the pointless
+  // global BA (paper Figure 3), if requested.
+  ConvergenceCurve convergence;
 };
 
 // Every stage, timed in `report` ("pairs", "triplets", "global_init", "local_hessians",
 // "global_ba", "triangulation", and "convergence" if requested; with GCPs also
 // "gcp_alignment" and "gcp_check", the GCPs triangulated with the final poses vs their given
-// coordinates); InputError when no reconstruction is possible.
+// coordinates); InputError when no reconstruction is possible. `front_end`: the image front
+// end's verified geometries of these tracks, or null (RunGlobalMapper).
 ReconstructionOutput Reconstruct(const Reconstruction& tracks, const ReconstructionOptions& options, Report* report,
-                                 bool record_convergence = false);
+                                 bool record_convergence = false,
+                                 const std::vector<TwoViewGeometry>* front_end = nullptr);
 
 // Continues from the workspace of an earlier `init` or `reconstruct`: WS/pairs.json,
 // WS/triplets.json and the initial poses of WS/init/ (matched to `tracks` by image name), and

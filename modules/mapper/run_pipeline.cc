@@ -1,8 +1,10 @@
 #include "mapper/run_pipeline.h"
 
 #include <filesystem>
+#include <optional>
 
 #include "features/feature_index.h"
+#include "matching/front_end_geometries.h"
 #include "modules/calibration/pixel_shift.h"
 #include "pgba/io/colmap_text.h"
 #include "pgba/scene/camera.h"
@@ -61,18 +63,32 @@ void WithCatalogCameras(const FeatureExtractionResult& features, Reconstruction*
   if (same_ids) tracks->cameras = features.index.cameras;
 }
 
-Reconstruction MatchOrReuse(const FeatureExtractionResult& features, const fs::path& out,
-                            const MatchingOptions& options, Report* report, const char* stage_name = "match") {
+// The front end's verified geometries the view graph starts from; none for a workspace from
+// before they were kept.
+using FrontEndGeometries = std::optional<std::vector<TwoViewGeometry>>;
+
+// The tracks (into `tracks`) and their verified geometries, matched or from the workspace.
+FrontEndGeometries MatchOrReuse(const FeatureExtractionResult& features, const fs::path& out,
+                                const MatchingOptions& options, Report* report, Reconstruction* tracks,
+                                const char* stage_name = "match") {
   const nlohmann::json key = TracksKey(features, options);
   StageTimer timer(report, stage_name);
+  FrontEndGeometries result;
   if (CachedTracksValid(out, key)) {
-    Reconstruction tracks = ReadColmapText((out / "tracks").string());
-    WithCatalogCameras(features, &tracks);
+    *tracks = ReadColmapText((out / "tracks").string());
+    WithCatalogCameras(features, tracks);
+    // Written with the tracks (WriteMatchingResult), so they describe the same images.
+    const std::string geometries = FrontEndGeometriesPath(out.string());
+    if (fs::exists(geometries)) {
+      result = ReadFrontEndGeometries(geometries, *tracks);
+    } else {
+      PGBA_LOG_WARN << geometries << ": missing, the view graph estimates every pair from the tracks";
+    }
     nlohmann::json& stage = timer.Stop();
     stage["cached"] = true;
-    stage["tracks"] = tracks.points3D.size();
+    stage["tracks"] = tracks->points3D.size();
     PGBA_LOG_INFO << "match: reusing " << (out / "tracks").string() << " (same features and options)";
-    return tracks;
+    return result;
   }
   MatchingResult r = MatchImages(out.string(), options);
   WithCatalogCameras(features, &r.tracks);
@@ -81,7 +97,15 @@ Reconstruction MatchOrReuse(const FeatureExtractionResult& features, const fs::p
   nlohmann::json& stage = timer.Stop();
   stage.update(MatchingRecord(r));
   stage["cached"] = false;
-  return r.tracks;
+  *tracks = std::move(r.tracks);
+  // Read back as a re-run reads them (17 significant digits), so that a run from cached
+  // tracks gives the same poses as the run that matched.
+  return ReadFrontEndGeometries(FrontEndGeometriesPath(out.string()), *tracks);
+}
+
+ReconstructionOutput ReconstructFromFrontEnd(const Reconstruction& tracks, const FrontEndGeometries& geometries,
+                                             const ReconstructionOptions& options, Report* report) {
+  return Reconstruct(tracks, options, report, /*record_convergence=*/true, geometries ? &*geometries : nullptr);
 }
 
 }  // namespace
@@ -100,7 +124,7 @@ RunOutput RunPipeline(const std::string& images_dir, const CalibrationInput& cal
   if (features.index.images.size() < 3)
     throw InputError(images_dir + ": " + std::to_string(features.index.images.size()) +
                      " usable image(s); a reconstruction needs at least 3 overlapping images");
-  result.tracks = MatchOrReuse(features, ws, options.matching, report);
+  FrontEndGeometries geometries = MatchOrReuse(features, ws, options.matching, report, &result.tracks);
   if (result.tracks.points3D.empty())
     throw InputError(images_dir + ": no verified matches between the images (do they overlap?)");
 
@@ -110,7 +134,7 @@ RunOutput RunPipeline(const std::string& images_dir, const CalibrationInput& cal
   reconstruction.refinement.calibration_is_prior =
       options.calibration_is_prior || features.calibration_source.rfind("file:", 0) != 0;
   (*report)["calibration_is_prior"] = reconstruction.refinement.calibration_is_prior;
-  result.reconstruction = Reconstruct(result.tracks, reconstruction, report, /*record_convergence=*/true);
+  result.reconstruction = ReconstructFromFrontEnd(result.tracks, geometries, reconstruction, report);
 
   // The tracks were verified with the cameras before self-calibration; when it moved them by
   // more than calibration.rematch_shift_px, match again with the refined cameras (written to
@@ -126,9 +150,10 @@ RunOutput RunPipeline(const std::string& images_dir, const CalibrationInput& cal
     recalibrated.index.cameras = refined;
     for (auto& [id, cam] : recalibrated.index.cameras) cam.has_prior_focal_length = true;  // estimated now
     WriteFeatureIndex(out, recalibrated.index);
-    result.tracks = MatchOrReuse(recalibrated, ws, options.matching, report, "match_recalibrated");
+    // The second matching verifies with the refined cameras: its geometries hold for them.
+    geometries = MatchOrReuse(recalibrated, ws, options.matching, report, &result.tracks, "match_recalibrated");
     WriteFeatureIndex(out, features.index);
-    result.reconstruction = Reconstruct(result.tracks, reconstruction, report, /*record_convergence=*/true);
+    result.reconstruction = ReconstructFromFrontEnd(result.tracks, geometries, reconstruction, report);
   }
   (*report)["rematch_shift_px"] = shift;
   WriteReconstruction(out, result.tracks, result.reconstruction);

@@ -1,6 +1,6 @@
 // `pgba run`: the whole mission, from a folder of calibrated photos to poses and points.
 //   features (SIFT, cached per image) -> matching + verification -> tracks
-//   -> global mapper -> local hessian BA per triplet -> pointless global BA -> points.
+//   -> global mapper (its view graph from the verified geometries) -> local hessian BA per triplet -> pointless global BA -> points.
 // The output folder is also the workspace: a re-run reuses the cached features and, when
 // the matching options and the feature set are unchanged, the tracks.
 #pragma once

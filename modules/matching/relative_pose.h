@@ -72,6 +72,17 @@ RelativePoseResult EstimateRelativePose(const std::vector<Eigen::Vector3d>& bear
                                         const std::vector<Eigen::Vector3d>& bearings2, double focal_px,
                                         const RelativePoseOptions& options);
 
+// The same inlier classification, refinement passes and statistics as EstimateRelativePose,
+// from a given pose instead of RANSAC's (a pose verified earlier on other correspondences
+// of the same pair, e.g. the front end's on its matches, refined on the tracks'). The
+// threshold, refinement and min_inliers options apply; the RANSAC ones are unused
+// (ransac_iterations stays 0). std::invalid_argument as EstimateRelativePose, and for a
+// non-finite or zero starting pose.
+RelativePoseResult RefineRelativePose(const std::vector<Eigen::Vector3d>& bearings1,
+                                      const std::vector<Eigen::Vector3d>& bearings2, double focal_px,
+                                      const RelativePoseOptions& options, const Eigen::Matrix3d& R_21,
+                                      const Eigen::Vector3d& t_21);
+
 // Sampson approximation of the reprojection error of b1 <-> b2 under (R_21, t_21), as an
 // angle in radians (first-order distance on the two unit spheres to the epipolar
 // constraint b2^T [t]x R b1 = 0).

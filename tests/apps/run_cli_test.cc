@@ -65,6 +65,31 @@ TEST_F(RunCli, RenderedSceneEveryImageRegisteredAndAccurate) {
   EXPECT_EQ(again["stages"]["features"]["images_cached"], 14);
   EXPECT_EQ(again["stages"]["match"]["cached"], true);
   EXPECT_EQ(again["evaluation"]["images_registered"], 14);
+  // Both runs' view graphs start from the front end's verified geometries (read back from
+  // matching/two_view_geometries.txt by the re-run): no pair it verified is estimated again.
+  for (const nlohmann::json* report : {&r, &again}) {
+    const nlohmann::json& pairs = (*report)["stages"]["pairs"];
+    EXPECT_GT(pairs["pairs_front_end"].get<int>(), 0) << pairs.dump();
+    EXPECT_EQ(pairs["pairs_refine_fallback"], 0) << pairs.dump();
+    EXPECT_EQ(pairs["pairs_ransac"].get<int>(), pairs["pairs_estimated"].get<int>() - pairs["pairs_front_end"].get<int>());
+    // The convergence curve's sample covers every track of this small scene.
+    EXPECT_EQ((*report)["stages"]["convergence"]["sampled"], false);
+  }
+  EXPECT_EQ(again["stages"]["pairs"]["pairs_front_end"], r["stages"]["pairs"]["pairs_front_end"]);
+  EXPECT_EQ(again["evaluation"]["rot_err_deg_max"], r["evaluation"]["rot_err_deg_max"]);
+
+  // A geometries file that does not fit the cached tracks: exit 2 and the file named.
+  const fs::path geometries = out / "matching" / "two_view_geometries.txt";
+  const fs::path saved = dir_ / "two_view_geometries.saved";
+  fs::copy_file(geometries, saved);
+  std::ofstream(geometries, std::ios::app) << "1 99 1 0 0 0 1 0 0 50 40 3.0\n";
+  EXPECT_EQ(Run(args), 2);
+  EXPECT_NE(Stderr().find(geometries.string() + ": pair (1, 99): image 99 is not in the tracks"), std::string::npos)
+      << Stderr();
+  std::ofstream(geometries) << "1 2 1 0 0\n";
+  EXPECT_EQ(Run(args), 2);
+  EXPECT_NE(Stderr().find(geometries.string() + ":1:"), std::string::npos) << Stderr();
+  fs::copy_file(saved, geometries, fs::copy_options::overwrite_existing);
 }
 
 // `pgba features` on its own records which calibration it used, as `pgba run` does.

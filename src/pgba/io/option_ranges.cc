@@ -95,6 +95,8 @@ Table BuildTable() {
   t["pairs.min_inlier_ratio"] = kFraction;
   t["pairs.min_triangulation_angle_deg"] = kMinAngleDeg;
   t["pairs.seed"] = Unbounded();
+  // convergence (mapper/convergence_curve.h)
+  t["convergence.max_tracks"] = kNonNegative;  // 0 = every track
   // calibration (calibration/view_graph_calibration.h, fundamental_matrix.h)
   t["calibration.fundamental.threshold_px"] = kPositive;
   t["calibration.fundamental.confidence"] = kProbability;
