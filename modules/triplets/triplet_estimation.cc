@@ -189,7 +189,9 @@ TripletEstimate EstimateTriplet(const TrackIndex& index, const std::array<uint32
   problem.gauge_scale = ids[vb];
   if (options.refine_intrinsics) {
     // The principal point stays held whatever the switches: three views do not determine it.
-    const FreeIntrinsics free = SelectFreeIntrinsics(local.cameras, IntrinsicsOptions());
+    IntrinsicsOptions switches;
+    switches.refine_principal_point_without_calibration = false;
+    const FreeIntrinsics free = SelectFreeIntrinsics(local.cameras, switches);
     const IntrinsicsUncertainty u = EstimateIntrinsicsUncertainty(local, problem.image_ids, free, ids[va], ids[vb]);
     out.intrinsics_max_sd_px = u.max_stddev_px;
     for (const auto& [camera_id, indices] : free) {
