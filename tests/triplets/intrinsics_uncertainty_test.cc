@@ -122,5 +122,14 @@ TEST(IntrinsicsUncertainty, AWideTripletDeterminesItsIntrinsicsANarrowOneDoesNot
   EXPECT_GT(n.max_stddev_px, threshold);
 }
 
+TEST(IntrinsicsUncertainty, TheThresholdMustBePositive) {
+  TripletOptions o;
+  EXPECT_EQ(o.Check(), "");
+  for (double bad : {0.0, -1.0, std::nan("")}) {
+    o.intrinsics_max_sd_px = bad;
+    EXPECT_NE(o.Check().find("intrinsics_max_sd_px"), std::string::npos) << bad;
+  }
+}
+
 }  // namespace
 }  // namespace pgba
