@@ -30,6 +30,7 @@ void ReadGlobalMapperOptions(const Config& config, GlobalMapperOptions* options)
   const std::string problem = options->calibration.Check();
   if (!problem.empty()) ThrowInputError(config.origin(), 0, "calibration." + problem);
   ReadSection(config, "triplets", &options->triplets);
+  if (const std::string t = options->triplets.Check(); !t.empty()) ThrowInputError(config.origin(), 0, "triplets." + t);
   ReadSection(config, "global_init", &options->global_init);
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <optional>
 
+#include "modules/triplets/intrinsics_uncertainty.h"
 #include "pgba/geometry/rotation.h"
 #include "pgba/geometry/sim3.h"
 #include "pgba/geometry/triangulation.h"
@@ -177,19 +178,43 @@ TripletEstimate EstimateTriplet(const TrackIndex& index, const std::array<uint32
   }
   if (static_cast<int>(local.points3D.size()) < options.min_tracks) return reject(TripletRejection::kTooFewTracks);
 
-  // 4. Triplet BA, outlier observations removed and re-solved.
+  // 4. Triplet BA, outlier observations removed and re-solved. Self-calibration frees the
+  // cameras' intrinsics only where the triplet determines them (TripletOptions::
+  // intrinsics_max_sd_px, measured at the initial solution); a freed BA that does not converge
+  // is replaced by the one with the intrinsics held.
   BundleAdjustmentProblem problem;
   problem.image_ids = {ids[0], ids[1], ids[2]};
   problem.fix_gauge = true;
   problem.gauge_anchor = ids[va];
   problem.gauge_scale = ids[vb];
-  if (options.refine_intrinsics) problem.free_intrinsics = SelectFreeIntrinsics(local.cameras, IntrinsicsOptions());
+  if (options.refine_intrinsics) {
+    // The principal point stays held whatever the switches: three views do not determine it.
+    IntrinsicsOptions switches;
+    switches.refine_principal_point_without_calibration = false;
+    const FreeIntrinsics free = SelectFreeIntrinsics(local.cameras, switches);
+    const IntrinsicsUncertainty u = EstimateIntrinsicsUncertainty(local, problem.image_ids, free, ids[va], ids[vb]);
+    out.intrinsics_max_sd_px = u.max_stddev_px;
+    for (const auto& [camera_id, indices] : free) {
+      const auto sd = u.camera_max_stddev_px.find(camera_id);
+      const bool determined = u.ok && sd != u.camera_max_stddev_px.end() && sd->second <= options.intrinsics_max_sd_px;
+      if (determined || !local.cameras.at(camera_id).has_prior_focal_length) problem.free_intrinsics[camera_id] = indices;
+    }
+  }
   BundleAdjusterOptions ba = options.bundle_adjuster;
   ba.num_threads = 1;
+  const Reconstruction initial = problem.free_intrinsics.empty() ? Reconstruction() : local;
   BundleAdjustmentSummary summary;
   for (int round = 0;; ++round) {
     summary = BundleAdjust(problem, ba, &local);
     out.ba_iterations += summary.iterations;
+    if (!problem.free_intrinsics.empty() && !(summary.usable && summary.converged)) {
+      PGBA_LOG_DEBUG << "triplet " << ids[0] << " " << ids[1] << " " << ids[2]
+                     << ": BA with free intrinsics did not converge, held instead";
+      problem.free_intrinsics.clear();
+      local = initial;
+      round = -1;
+      continue;
+    }
     // A round that used up its iteration budget will not converge in the next one either
     // (weak geometry: the cost crawls along a flat valley); re-solving after outlier removal
     // would only spend up to three more budgets on a triplet that is rejected in the end.
@@ -197,8 +222,12 @@ TripletEstimate EstimateTriplet(const TrackIndex& index, const std::array<uint32
     if (round == 3 || FilterObservations(options.outlier_threshold_px, &local) == 0) break;
     if (static_cast<int>(local.points3D.size()) < options.min_tracks) return reject(TripletRejection::kTooFewTracks);
   }
+  out.intrinsics_freed = !problem.free_intrinsics.empty();
   PGBA_LOG_DEBUG << "triplet " << ids[0] << " " << ids[1] << " " << ids[2] << ": BA " << out.ba_iterations
-                 << " iterations, " << local.points3D.size() << " points, " << summary.message;
+                 << " iterations, " << local.points3D.size() << " points, intrinsics "
+                 << (out.intrinsics_freed ? "freed" : "held") << " (sd " << out.intrinsics_max_sd_px
+                 << " px at the corner), focal " << local.cameras.begin()->second.MeanFocal() << ", "
+                 << summary.message;
   if (!summary.converged) return reject(TripletRejection::kNotConverged);
 
   // 5. Checks on the refined triplet.
@@ -238,6 +267,11 @@ TripletEstimate EstimateTriplet(const TrackIndex& index, const std::array<uint32
   triplet.rms_px = rms;
   out.score = TripletScore(out.num_tracks_all_views, out.median_triangulation_angle_deg, options);
   return out;
+}
+
+std::string TripletOptions::Check() const {
+  if (!(intrinsics_max_sd_px > 0.0)) return "intrinsics_max_sd_px must be > 0 (1e9: always free)";
+  return "";
 }
 
 const char* TripletRejectionName(TripletRejection r) {

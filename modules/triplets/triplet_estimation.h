@@ -36,6 +36,10 @@ struct TripletEstimate {
   double median_triangulation_angle_deg = 0.0;
   double score = 0.0;                     // TripletOptions::score_angle_deg
   int ba_iterations = 0;
+  // Self-calibration (TripletOptions::refine_intrinsics): whether the BA estimated the
+  // intrinsics, and their largest standard deviation (IntrinsicsUncertainty::max_stddev_px).
+  bool intrinsics_freed = false;
+  double intrinsics_max_sd_px = 0.0;
 };
 
 // `image_ids` ascending; pairs[0], pairs[1], pairs[2] are the verified geometries of the

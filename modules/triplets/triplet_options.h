@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstdint>
+#include <string>
 
 #include "modules/triplets/absolute_pose.h"
 #include "pgba/optim/bundle_adjuster.h"
@@ -61,6 +62,20 @@ struct TripletOptions {
   // unmodelled k = -0.08 the initial relative rotations err by 5.4 deg held, 0.11 deg freed
   // (tests/triplets/triplet_self_calibration_test.cc).
   bool refine_intrinsics = false;
+  // ... but a camera with a prior focal (a calibration file given as a prior, EXIF:
+  // Camera::has_prior_focal_length) only in the triplets that determine it: its intrinsics are
+  // freed when each free parameter's standard deviation (IntrinsicsUncertainty, at the initial
+  // solution, for 1 px noise) moves the farthest image corner by at most this many pixels;
+  // otherwise (and wherever the freed BA does not converge) they are held at the current
+  // estimate, which the global adjustments refine from all views. A focal that is only the
+  // 1.2 max(w, h) guess is freed in every triplet (wherever the BA converges): even a triplet
+  // that sees it poorly corrects a guess 2x short (temple_sparse_ring). Measured (largest sd
+  // at the corner per px of noise): Strecha triplets (fountain, herzjesu, FoV 58 deg) 2-18 px,
+  // a synthetic ring triplet at FoV 77 deg 26 px (tests/triplets/intrinsics_uncertainty_test.cc),
+  // the temple ring (FoV 24 deg) 96-497 px: there the freed focals scattered over 1232-1865 px
+  // (truth 1523), 14 freed BAs ran out of iterations and the view graph split (13/16 images);
+  // held: 16/16. Must be > 0 (1e9: always free).
+  double intrinsics_max_sd_px = 50.0;
   // --- rejection ---
   int min_tracks = 30;                       // tracks seen by >= 2 of the 3 views after the BA
   double max_rms_px = 1.5;                   // reprojection RMS after the BA
@@ -68,11 +83,14 @@ struct TripletOptions {
   // Score = tracks seen by all three views x min(1, median triangulation angle / this).
   double score_angle_deg = 5.0;
   uint64_t seed = 1;
+  // Empty if usable, else the first problem naming the key.
+  std::string Check() const;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(TripletOptions, selection, max_triplets_per_image,
                                                 max_selection_rounds, max_rotation_cycle_deg, open_triplets,
                                                 open_min_tracks_all_views, absolute_pose,
                                                 outlier_threshold_px, min_track_angle_deg, bundle_adjuster, refine_intrinsics,
+                                                intrinsics_max_sd_px,
                                                 min_tracks,
                                                 max_rms_px, min_triangulation_angle_deg, score_angle_deg, seed)
 
@@ -90,6 +108,7 @@ struct TripletStats {
   int rejected_too_few_tracks = 0;
   int rejected_init_failed = 0;       // absolute pose of the third view failed
   int rejected_not_converged = 0;
+  int intrinsics_freed = 0;           // of the returned triplets: intrinsics estimated (refine_intrinsics)
   int rejected_high_rms = 0;
   int rejected_degenerate = 0;        // near pure rotation / baseline tiny w.r.t. depth
   int selection_rounds = 0;

@@ -199,6 +199,7 @@ nlohmann::json ToJson(const TripletStats& s) {
           {"rejected_too_few_tracks", s.rejected_too_few_tracks},
           {"rejected_init_failed", s.rejected_init_failed},
           {"rejected_not_converged", s.rejected_not_converged},
+          {"intrinsics_freed", s.intrinsics_freed},
           {"rejected_high_rms", s.rejected_high_rms},
           {"rejected_degenerate", s.rejected_degenerate},
           {"selection_rounds", s.selection_rounds},
@@ -303,6 +304,7 @@ std::vector<Triplet> BuildTriplets(const Reconstruction& tracks, const std::vect
     stats.open_selected += !p[0] || !p[1] || !p[2];
     for (uint32_t id : candidates[i].ids) covered.insert(id);
     rms.push_back(candidates[i].estimate.triplet.rms_px);
+    stats.intrinsics_freed += candidates[i].estimate.intrinsics_freed;
   }
   stats.selected = static_cast<int>(result.size());
   stats.images_covered = static_cast<int>(covered.size());

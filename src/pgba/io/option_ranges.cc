@@ -128,6 +128,7 @@ Table BuildTable() {
   AddBundleAdjuster("triplets.bundle_adjuster", &t);
   t["triplets.min_tracks"] = kAtLeastOne;
   t["triplets.max_rms_px"] = kPositive;
+  t["triplets.intrinsics_max_sd_px"] = kPositive;
   t["triplets.min_triangulation_angle_deg"] = kMinAngleDeg;
   t["triplets.score_angle_deg"] = kAngleDeg;
   t["triplets.seed"] = Unbounded();

@@ -72,7 +72,10 @@ std::vector<int> FreeIntrinsicIndices(CameraModel model, const IntrinsicsOptions
 FreeIntrinsics SelectFreeIntrinsics(const std::map<uint32_t, Camera>& cameras, const IntrinsicsOptions& options) {
   FreeIntrinsics out;
   for (const auto& [id, camera] : cameras) {
-    std::vector<int> free = FreeIntrinsicIndices(camera.model, options);
+    IntrinsicsOptions o = options;
+    if (!camera.has_prior_focal_length && options.refine_principal_point_without_calibration)
+      o.refine_principal_point = true;
+    std::vector<int> free = FreeIntrinsicIndices(camera.model, o);
     if (!free.empty()) out[id] = std::move(free);
   }
   return out;
