@@ -3,7 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <Eigen/Cholesky>
-#include <Eigen/SparseCholesky>
+#include <Eigen/CholmodSupport>
 
 #include <algorithm>
 #include <array>
@@ -241,7 +241,10 @@ class PoseSystem {
   Eigen::SparseMatrix<double> matrix_;
   Eigen::MatrixXd dense_;  // lower triangle used
   Eigen::LLT<Eigen::MatrixXd> dense_llt_;
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> solver_;
+  // Supernodal (CHOLMOD, as Ceres' SPARSE_SCHUR uses): the pose system of a 2,000-image
+  // block (12,000 unknowns, a 6 x 6 block per pair of images sharing a motion of ~15 views)
+  // fills in heavily, where Eigen's simplicial LDL^T took ~4 s per factorisation.
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver_;
 };
 
 }  // namespace
