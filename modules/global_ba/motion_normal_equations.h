@@ -9,7 +9,8 @@
 //     J^T h J:  H_kl = A_k^T h_kl A_l,  H_k,sim = A_k^T (h B)_k,  H_sim = B^T h B,
 // O(N^2) per motion with h = W^T W. Each motion's 7 similarity unknowns are then eliminated
 // on the spot (7 x 7 Schur complement) and the 6M x 6M pose system, sparse with a block per
-// pair of images sharing a motion, is solved by a sparse Cholesky factorisation (AMD order).
+// pair of images sharing a motion, is solved by Cholesky (dense up to 1500 unknowns, else
+// CHOLMOD supernodal).
 // The damping, step acceptance and stopping rules are Ceres' Levenberg-Marquardt ones
 // (diag(J^T J) / radius, the same tolerances), so both solvers stop alike.
 #pragma once

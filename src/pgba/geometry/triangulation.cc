@@ -7,7 +7,6 @@
 #include <cmath>
 #include <limits>
 
-
 namespace pgba {
 
 namespace {
@@ -84,14 +83,17 @@ bool Residual(const TrackView& v, const Eigen::Vector3d& X, Eigen::Vector2d* r, 
   return r->allFinite() && J->allFinite();
 }
 
-// Reprojection error of every view (kBehind for views that see X behind them).
+// Reprojection error of view v at X (kBehind if it sees X behind it).
+double ResidualPx(const TrackView& v, const Eigen::Vector3d& X) {
+  const Eigen::Vector3d xc = v.pose.ToCamera(X);
+  const double r = xc.z() > 0 ? (v.camera->Project(xc) - v.pixel).norm() : kBehind;
+  return std::isfinite(r) ? r : kBehind;
+}
+
+// Reprojection error of every view.
 std::vector<double> Residuals(const std::vector<TrackView>& views, const Eigen::Vector3d& X) {
   std::vector<double> res(views.size());
-  for (size_t i = 0; i < views.size(); ++i) {
-    const Eigen::Vector3d xc = views[i].pose.ToCamera(X);
-    res[i] = xc.z() > 0 ? (views[i].camera->Project(xc) - views[i].pixel).norm() : kBehind;
-    if (!std::isfinite(res[i])) res[i] = kBehind;
-  }
+  for (size_t i = 0; i < views.size(); ++i) res[i] = ResidualPx(views[i], X);
   return res;
 }
 
@@ -232,9 +234,7 @@ bool ScoresBetter(const std::vector<TrackView>& views, const Eigen::Vector3d& X,
   double cost = 0.0;
   const size_t n = views.size();
   for (size_t i = 0; i < n; ++i) {
-    const Eigen::Vector3d xc = views[i].pose.ToCamera(X);
-    double r = xc.z() > 0 ? (views[i].camera->Project(xc) - views[i].pixel).norm() : kBehind;
-    if (!std::isfinite(r)) r = kBehind;
+    const double r = ResidualPx(views[i], X);
     inliers += r < outlier_px;
     in_front += r < kBehind;
     cost += std::min(r, outlier_px) * std::min(r, outlier_px);
