@@ -128,14 +128,8 @@ AerialBlock MakeAerialBlock(const AerialBlockOptions& options) {
   const RenderedSceneOptions& io = options.image;
   AerialBlock block;
 
-  Camera cam;
-  cam.camera_id = 1;
-  cam.model = CameraModel::kPinhole;
-  cam.width = io.width;
-  cam.height = io.height;
-  const double f = io.focal_px > 0 ? io.focal_px : 0.8 * io.width;
-  cam.params = {f, f, 0.5 * io.width, 0.5 * io.height};
-  cam = synthetic::WithRadialDistortion(cam, io.k1, "--k1");
+  const Camera cam = RenderedCamera(io);
+  const double f = cam.params[0];  // every model RenderedCamera returns starts with the focal
   block.gt.cameras[1] = cam;
   block.calibration = synthetic::FocalPrior(cam, io.focal_prior_error);
 

@@ -119,11 +119,7 @@ void ValidateRenderedSceneOptions(const RenderedSceneOptions& o) {
   synthetic::ValidateLensOptions(o.k1, "--k1", o.focal_prior_error, "--focal-prior-error");
 }
 
-RenderedScene RenderRoomScene(const RenderedSceneOptions& options) {
-  ValidateRenderedSceneOptions(options);
-  Timer timer;
-  RenderedScene scene;
-
+Camera RenderedCamera(const RenderedSceneOptions& options) {
   Camera cam;
   cam.camera_id = 1;
   cam.model = CameraModel::kPinhole;
@@ -131,7 +127,15 @@ RenderedScene RenderRoomScene(const RenderedSceneOptions& options) {
   cam.height = options.height;
   const double f = options.focal_px > 0 ? options.focal_px : 0.8 * options.width;
   cam.params = {f, f, 0.5 * options.width, 0.5 * options.height};
-  cam = synthetic::WithRadialDistortion(cam, options.k1, "--k1");
+  return synthetic::WithRadialDistortion(cam, options.k1, "--k1");
+}
+
+RenderedScene RenderRoomScene(const RenderedSceneOptions& options) {
+  ValidateRenderedSceneOptions(options);
+  Timer timer;
+  RenderedScene scene;
+
+  const Camera cam = RenderedCamera(options);
   scene.gt.cameras[1] = cam;
   scene.calibration = synthetic::FocalPrior(cam, options.focal_prior_error);
 

@@ -61,6 +61,10 @@ struct RenderedScene {
   double seconds = 0.0;           // wall time of texturing and rendering
 };
 
+// The true camera of every rendered scene: camera 1, PINHOLE with focal_px (default 0.8 x
+// width) and a centred principal point, then the radial distortion k1 (synthetic_lens.h).
+Camera RenderedCamera(const RenderedSceneOptions& options);
+
 RenderedScene RenderRoomScene(const RenderedSceneOptions& options);
 
 // Writes the layout of shared/datasets:
