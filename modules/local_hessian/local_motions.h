@@ -60,9 +60,20 @@ struct LocalMotionOptions {
   // shared tracks (s = 1: the nearest ones; larger s: a motion spread over a longer stretch
   // of the tracks, which catches the long tracks that a window of near neighbours cuts).
   std::vector<int> neighbour_strides = {1};
+  // kWholeTracks: when the initial poses are off their triplets' relative rotations by more
+  // than this many triplet residuals (median, TripletRotationMisfit of
+  // mapper/linearization_start.h), the motions are linearised where the triplets' pointless BA
+  // puts the poses instead of at the initial poses. Measured: 1.7-8 on near-converged starts
+  // (synthetic orbit, aerial, planar; fountain_p11, herzjesu_p8, entry_p10, also with the
+  // focal 10% off or uncalibrated), 37 on temple_sparse_ring (60 uncalibrated, 114 with the
+  // focal 10% off: whole tracks from there measured fine, 0.21-0.41 deg), 1065-1192 on the
+  // long-focal loops, whose result it takes from 40x to 0.95x the point-based relative
+  // rotation error. The threshold sits ~3x from both. <= 0: never.
+  double triplet_start_misfit = 300.0;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(LocalMotionOptions, kind, max_views, min_tracks, views,
-                                                min_shared_tracks, max_iterations, neighbour_strides)
+                                                min_shared_tracks, max_iterations, neighbour_strides,
+                                                triplet_start_misfit)
 
 // Whether the motions' start must come from the triplets' pointless BA and be converged by
 // their own local BA (kNeighbours: local_motions.h above). Whole-track motions need neither:

@@ -4,6 +4,7 @@
 #include <limits>
 #include <string>
 
+#include "mapper/linearization_start.h"
 #include "mapper/triplet_split_tracks.h"
 #include "pgba/io/report.h"
 #include "pgba/scene/triangulate_model.h"
@@ -76,6 +77,17 @@ FreeIntrinsics SelectRefinedIntrinsics(const Reconstruction& tracks, const Refin
   return SelectFreeIntrinsics(guessed, options.intrinsics);
 }
 
+void MeasureTripletStart(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
+                         const std::vector<Triplet>& triplets, const LocalMotionOptions& options,
+                         PreparedHessians* hessians) {
+  hessians->triplet_rotation_misfit = TripletRotationMisfit(tracks, initial, triplets);
+  hessians->triplet_start = hessians->triplet_rotation_misfit > options.triplet_start_misfit;
+  PGBA_LOG_INFO << "local motions: initial poses " << hessians->triplet_rotation_misfit
+                << " triplet residuals off their triplets' rotations"
+                << (hessians->triplet_start ? ": linearised at the triplets' pointless BA instead" : "");
+  if (hessians->triplet_start) hessians->linearization_poses = TripletPointlessStart(tracks, initial, triplets);
+}
+
 PreparedHessians PrepareLocalHessians(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
                                       const std::vector<Triplet>& triplets, const RefinementOptions& options) {
   ResetPeakRss();
@@ -93,6 +105,9 @@ PreparedHessians PrepareLocalHessians(const Reconstruction& tracks, const std::m
                                                         MotionsOfTriplets(triplets), triplet_hessians.hessians,
                                                         options.global_ba);
     for (const auto& [id, pose] : refined.poses) start[id] = pose;
+  } else if (options.local_motions.kind == MotionKind::kWholeTracks && options.local_motions.triplet_start_misfit > 0) {
+    MeasureTripletStart(tracks, initial, triplets, options.local_motions, &out);
+    if (out.triplet_start) start = out.linearization_poses;
   }
   out.motions = BuildLocalMotions(tracks, start, triplets, options.local_hessian, options.local_motions);
   const FreeIntrinsics free = SelectRefinedIntrinsics(tracks, options);
@@ -190,11 +205,14 @@ RefinementResult RefineWithMotions(RefinementMethod method, const Reconstruction
   if (record_history) callback = [&r](const GlobalBAIteration& it) { r.history.push_back(*it.poses); };
   // Pointless: with the local Hessians re-linearised at the solution where the models
   // disagree (global_ba.h); their passes count as adjustment time.
+  GlobalBAOptions pointless = options.global_ba;
+  if (hessians.triplet_start) pointless.max_relinearizations = pointless.max_relinearizations_far_start;
+  const std::map<uint32_t, Pose>& start = hessians.triplet_start ? hessians.linearization_poses : initial;
   const GlobalBAResult g =
       method == RefinementMethod::kPointless
-          ? RelinearizedGlobalBA(tracks, options.local_hessian, initial, hessians.motions, hessians.result.hessians,
-                                 options.global_ba, callback, gcps)
-          : AveragingGlobalBA(initial, hessians.motions, hessians.result.hessians, options.global_ba, callback, gcps);
+          ? RelinearizedGlobalBA(tracks, options.local_hessian, start, hessians.motions, hessians.result.hessians,
+                                 pointless, callback, gcps)
+          : AveragingGlobalBA(start, hessians.motions, hessians.result.hessians, options.global_ba, callback, gcps);
   r.adjust_seconds = g.summary.seconds;
   r.peak_rss_mb = std::max(PeakRssMb(), hessians.peak_rss_mb);
   r.poses = g.poses;
@@ -221,6 +239,8 @@ RefinementResult RefineWithMotions(RefinementMethod method, const Reconstruction
     r.details["misfit_ratio"] = NumberOrNull(g.summary.misfit_ratio);
     r.details["relinearizations"] = g.summary.relinearizations;
     r.details["relinearization_seconds"] = g.summary.relinearization_seconds;
+    r.details["triplet_rotation_misfit"] = hessians.triplet_rotation_misfit;
+    r.details["triplet_start"] = hessians.triplet_start;
   }
   if (gcps) r.details["gcp_residuals"] = g.summary.num_gcp_residuals;
   return r;

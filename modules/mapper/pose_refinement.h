@@ -116,9 +116,24 @@ struct PreparedHessians {
   LocalHessianResult result;  // one per motion
   double seconds = 0.0;
   double peak_rss_mb = 0.0;
+  // Whole-track motions: TripletRotationMisfit of the initial poses, and whether the motions
+  // were linearised at the triplets' pointless BA because it exceeded
+  // local_motions.triplet_start_misfit (linearization_start.h).
+  double triplet_rotation_misfit = 0.0;
+  bool triplet_start = false;
+  // With triplet_start: the poses the motions were linearised at (the triplets' pointless BA),
+  // where the pointless global BA starts too, so that its first checked step is measured
+  // against the cost where its models were taken.
+  std::map<uint32_t, Pose> linearization_poses;
 };
 PreparedHessians PrepareLocalHessians(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
                                       const std::vector<Triplet>& triplets, const RefinementOptions& options);
+// Sets hessians->triplet_rotation_misfit and triplet_start from `initial`, and when it is set
+// the linearization_poses (the flag also decides the global BA's start and passes: a workspace
+// re-run that reads the local Hessians sets them again).
+void MeasureTripletStart(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
+                         const std::vector<Triplet>& triplets, const LocalMotionOptions& options,
+                         PreparedHessians* hessians);
 
 // Refines `initial` by `method`. `hessians` (from PrepareLocalHessians on the same
 // initialisation) is required for pointless and averaging and ignored by pointbased. Throws

@@ -70,6 +70,8 @@ void Refine(const Reconstruction& tracks, const ReconstructionOptions& options, 
     stage["ok"] = out->hessians.result.num_ok();
     stage["rejected"] = LocalHessianStatusCounts(out->hessians.result);
     stage["rejected"].erase(LocalHessianStatusName(LocalHessianStatus::kOk));
+    stage["triplet_rotation_misfit"] = out->hessians.triplet_rotation_misfit;
+    stage["triplet_start"] = out->hessians.triplet_start;
   }
   const std::optional<GcpInput> gcps = TransferToGcpFrame(tracks, options, report, &out->init.init);
   {
@@ -177,6 +179,10 @@ ReconstructionOutput ReconstructFromWorkspace(const Reconstruction& tracks, cons
     out.hessians.motions =
         ChooseLocalMotions(tracks, out.init.init.poses, out.init.init.triplets, options.refinement.local_motions);
     out.hessians.result = ReadLocalHessians(hessians, tracks, out.hessians.motions);
+    if (options.refinement.local_motions.kind == MotionKind::kWholeTracks &&
+        options.refinement.local_motions.triplet_start_misfit > 0)
+      MeasureTripletStart(tracks, out.init.init.poses, out.init.init.triplets, options.refinement.local_motions,
+                          &out.hessians);
     nlohmann::json& stage = timer.Stop();
     stage["read_from"] = hessians.string();
     stage["ok"] = out.hessians.result.num_ok();

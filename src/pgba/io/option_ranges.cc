@@ -169,6 +169,7 @@ Table BuildTable() {
   t["local_motions.min_shared_tracks"] = kAtLeastOne;
   t["local_motions.max_iterations"] = kNonNegative;
   t["local_motions.neighbour_strides[]"] = kAtLeastOne;
+  t["local_motions.triplet_start_misfit"] = Unbounded();  // <= 0: never
   t["local_hessian.max_iterations"] = kNonNegative;
   t["local_hessian.attenuation_q"] = Unbounded();  // <= 0 disables the attenuation
   t["local_hessian.huber_px"] = kPositive;
@@ -192,6 +193,7 @@ Table BuildTable() {
   t["global_ba.num_threads"] = kNonNegative;
   t["global_ba.max_relinearizations"] = kNonNegative;
   t["global_ba.max_relinearizations_self_calibrating"] = kNonNegative;
+  t["global_ba.max_relinearizations_far_start"] = kNonNegative;
   t["global_ba.relinearize_misfit"] = Unbounded();  // <= 0: always
   t["global_ba.relinearize_tolerance"] = kPositive;
   t["global_ba.relinearize_cost_tolerance"] = kNonNegative;

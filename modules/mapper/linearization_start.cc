@@ -1,0 +1,53 @@
+#include "mapper/linearization_start.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "modules/global_ba/global_ba.h"
+#include "modules/local_hessian/local_hessian.h"
+#include "pgba/util/upper_median.h"
+
+namespace pgba {
+
+double TripletRotationMisfit(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
+                             const std::vector<Triplet>& triplets) {
+  std::vector<double> misfit;
+  for (const Triplet& t : triplets) {
+    double worst_px = 0.0;
+    bool posed = true;
+    for (int a = 0; a < 3 && posed; ++a) {
+      const int b = (a + 1) % 3;
+      const auto pa = initial.find(t.image_ids[a]);
+      const auto pb = initial.find(t.image_ids[b]);
+      if (pa == initial.end() || pb == initial.end()) {
+        posed = false;
+        break;
+      }
+      const Eigen::Matrix3d global = pa->second.R() * pb->second.R().transpose();
+      const Eigen::Matrix3d local = t.local_poses[a].R() * t.local_poses[b].R().transpose();
+      const double angle = Eigen::AngleAxisd(global * local.transpose()).angle();
+      const double focal = tracks.cameras.at(tracks.images.at(t.image_ids[a]).camera_id).MeanFocal();
+      worst_px = std::max(worst_px, angle * focal);
+    }
+    if (posed) misfit.push_back(worst_px / std::max(t.rms_px, 0.1));
+  }
+  return misfit.empty() ? 0.0 : UpperMedian(misfit);
+}
+
+std::map<uint32_t, Pose> TripletPointlessStart(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
+                                               const std::vector<Triplet>& triplets) {
+  // The triplets come converged from their own BA (triplet stage): h is taken where they are.
+  LocalHessianOptions paper_lh;
+  paper_lh.max_iterations = 0;
+  GlobalBAOptions paper_ba;
+  paper_ba.max_rounds = 1;
+  paper_ba.max_relinearizations = 0;
+  const LocalHessianResult h = ComputeLocalHessians(tracks, triplets, paper_lh);
+  const GlobalBAResult r =
+      RelinearizedGlobalBA(tracks, paper_lh, initial, MotionsOfTriplets(triplets), h.hessians, paper_ba);
+  std::map<uint32_t, Pose> start = initial;
+  for (const auto& [id, pose] : r.poses) start[id] = pose;
+  return start;
+}
+
+}  // namespace pgba
