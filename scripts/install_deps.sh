@@ -2,7 +2,7 @@
 # Installs pgba's build and test dependencies from Debian's package registry (idempotent).
 set -euo pipefail
 PKGS=(build-essential cmake ninja-build pkg-config
-      libeigen3-dev libceres-dev libsuitesparse-dev libopengv-dev libopencv-dev libflann-dev
+      libeigen3-dev libceres-dev libsuitesparse-dev libopengv-dev libopencv-dev
       nlohmann-json3-dev libcli11-dev libtbb-dev libsqlite3-dev libexif-dev libgtest-dev)
 missing=()
 for p in "${PKGS[@]}"; do

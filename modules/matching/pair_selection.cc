@@ -20,7 +20,7 @@ std::vector<ImagePair> SequentialPairs(int n, int window, bool loop) {
       int j = i + d;
       if (j >= n) {
         if (!loop) break;
-        j -= n;
+        j %= n;  // a window longer than the ring wraps more than once (j - n may still be >= n)
       }
       if (j != i) pairs.emplace(std::min(i, j), std::max(i, j));
     }

@@ -2,18 +2,96 @@
 // ring of known poses): every image registered, rotations within 0.1 deg of the truth,
 // every output written; a re-run reuses the features and tracks; an empty folder or a
 // folder of non-images fails with exit code 2, a failed report.json and no report.html.
+// report.html says what report.json and the written model say: images registered, points and
+// observations of sparse/, every stage with its seconds in the stages' order and their
+// total, the ground-truth rotation errors, one camera per registered image in the top view,
+// the verified pairs of matching/two_view_geometries.txt; self-contained (no script, nothing
+// fetched).
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "pgba/io/colmap_text.h"
 #include "tests/apps/cli_runner.h"
 
 namespace {
 namespace fs = std::filesystem;
+
+std::string Slurp(const fs::path& p) {
+  std::ifstream in(p);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+std::string Fixed(const char* format, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), format, v);
+  return buf;
+}
+
+size_t Count(const std::string& text, const std::string& what) {
+  size_t n = 0;
+  for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + what.size())) ++n;
+  return n;
+}
+
+// report.html against report.json and the model written beside it (`images`: the scene's).
+void ExpectHtmlMatchesReport(const fs::path& out, const nlohmann::json& r, int images) {
+  const std::string html = Slurp(out / "report.html");
+  ASSERT_FALSE(html.empty());
+  auto row = [&](const std::string& key, const std::string& value) {
+    EXPECT_NE(html.find("<th>" + key + "</th><td>" + value + "</td>"), std::string::npos) << key << " = " << value;
+  };
+  ASSERT_EQ(r["images_registered"], images);
+  row("images registered", std::to_string(images) + " / " + std::to_string(r["images_input"].get<int>()));
+  const pgba::Reconstruction model = pgba::ReadColmapText((out / "sparse").string());
+  EXPECT_EQ(model.images.size(), static_cast<size_t>(images));
+  row("points", std::to_string(model.points3D.size()));
+  row("observations", std::to_string(model.NumObservations()));
+  row("unknowns of the pointless global BA", std::to_string(r["params"].get<long>()));
+  const nlohmann::json& e = r["evaluation"];
+  row("rotation error vs ground truth, median / max (deg)",
+      Fixed("%.4f", e["rot_err_deg_median"].get<double>()) + " / " + Fixed("%.4f", e["rot_err_deg_max"].get<double>()));
+  row("sigma median (px)", Fixed("%.4f", e["sigma_median"].get<double>()));
+  // Every stage, in the order report.json gives, with its seconds; the total their sum.
+  std::vector<std::pair<int, std::string>> order;
+  for (const auto& [name, st] : r["stages"].items()) order.push_back({st.value("order", 0), name});
+  std::sort(order.begin(), order.end());
+  ASSERT_GE(order.size(), 7u);
+  size_t last = 0;
+  double total = 0.0;
+  for (const auto& [o, name] : order) {
+    const double seconds = r["stages"][name].value("seconds", 0.0);
+    total += seconds;
+    const size_t at = html.find("<tr><td>" + name + "</td><td class=\"n\">" + Fixed("%.2f", seconds) + "</td>");
+    ASSERT_NE(at, std::string::npos) << name;
+    EXPECT_GT(at, last) << name << " out of order";
+    last = at;
+  }
+  EXPECT_NE(html.find("<tr><th>total</th><th class=\"n\">" + Fixed("%.2f", total) + "</th>"), std::string::npos);
+  // Top view: one camera marker (named) per registered image.
+  const size_t top = html.find("<h2>Top view</h2>"), graph = html.find("<h2>View graph</h2>");
+  ASSERT_NE(top, std::string::npos);
+  ASSERT_NE(graph, std::string::npos);
+  ASSERT_LT(top, graph);
+  const std::string top_view = html.substr(top, graph - top);
+  EXPECT_EQ(Count(top_view, "</title></circle>"), static_cast<size_t>(images));
+  for (const auto& [id, im] : model.images) EXPECT_NE(top_view.find("<title>" + im.name + "</title>"), std::string::npos);
+  // View graph: as many verified pairs as the front end wrote.
+  std::ifstream geometries(out / "matching" / "two_view_geometries.txt");
+  size_t pairs = 0;
+  for (std::string line; std::getline(geometries, line);) pairs += !line.empty() && line[0] != '#';
+  EXPECT_GT(pairs, static_cast<size_t>(images));
+  EXPECT_NE(html.find("<h2>View graph</h2><p>" + std::to_string(pairs) + " verified pairs"), std::string::npos);
+  // Self-contained: no script, nothing fetched.
+  EXPECT_EQ(html.find("<script"), std::string::npos);
+  EXPECT_EQ(html.find("src=\"http"), std::string::npos);
+  EXPECT_EQ(html.find("href=\"http"), std::string::npos);
+}
 
 class RunCli : public ::testing::Test {
  protected:
@@ -58,6 +136,7 @@ TEST_F(RunCli, RenderedSceneEveryImageRegisteredAndAccurate) {
   EXPECT_LT(e["center_err_rel_median"].get<double>(), 0.005);
   for (const char* stage : {"features", "match", "pairs", "triplets", "global_init", "local_hessians", "global_ba"})
     EXPECT_TRUE(r["stages"].contains(stage)) << stage;
+  ExpectHtmlMatchesReport(out, r, 14);
 
   // The re-run continues from the workspace: cached features, reused tracks.
   ASSERT_EQ(Run(args), 0) << Stderr();
