@@ -58,6 +58,32 @@ void ProjectionSigns(const cv::Mat& descriptors, const std::vector<int16_t>& mea
   }
 }
 
+// Moves the `k` smallest keys (Hamming distance << 32 | index) of `candidates` to its front
+// and returns how many there are (k, or fewer candidates): the same set std::nth_element
+// selects, but by a histogram of the distances (0-128), since a general selection over the
+// ~200 candidates of each query was a third of all matching time (perf, fountain_p11).
+// Keys at the cut-off distance are taken by increasing index, as the key order does.
+size_t SelectSmallest(size_t k, std::vector<uint64_t>* candidates, std::vector<uint64_t>* ties) {
+  std::vector<uint64_t>& c = *candidates;
+  if (c.size() <= k) return c.size();
+  uint16_t hist[kCodeBits + 1] = {};
+  for (uint64_t key : c) ++hist[key >> 32];
+  size_t below = 0;  // keys with a distance under the cut-off
+  uint64_t cut = 0;
+  while (below + hist[cut] < k) below += hist[cut++];
+  ties->clear();
+  size_t n = 0;
+  for (uint64_t key : c) {
+    const uint64_t d = key >> 32;
+    if (d < cut) c[n++] = key;
+    else if (d == cut) ties->push_back(key);
+  }
+  const size_t from_ties = k - below;
+  if (ties->size() > from_ties) std::nth_element(ties->begin(), ties->begin() + from_ties, ties->end());
+  std::copy(ties->begin(), ties->begin() + from_ties, c.begin() + n);
+  return k;
+}
+
 }  // namespace
 
 void ValidateCascadeHashingOptions(const CascadeHashingOptions& o) {
@@ -160,6 +186,7 @@ void HashedDescriptors::SearchBestTwo(const HashedDescriptors& queries, const st
   // Candidates as (Hamming distance << 32 | index): sorting them ranks by distance, ties by index.
   std::vector<uint64_t> candidates;
   candidates.reserve(static_cast<size_t>(num_tables_) * 64);
+  std::vector<uint64_t> ties;
   for (int q = 0; q < num_queries; ++q) {
     const int i = rows ? (*rows)[q] : q;
     const uint64_t* code = &queries.codes_[2 * static_cast<size_t>(i)];
@@ -176,8 +203,7 @@ void HashedDescriptors::SearchBestTwo(const HashedDescriptors& queries, const st
                              uint32_t(j));
       }
     }
-    const size_t k = std::min<size_t>(num_reranked_, candidates.size());
-    std::nth_element(candidates.begin(), candidates.begin() + k, candidates.end());
+    const size_t k = SelectSmallest(num_reranked_, &candidates, &ties);
     int d1 = std::numeric_limits<int>::max(), d2 = d1, j1 = -1;
     const uint8_t* qd = queries.descriptors_.ptr<uint8_t>(i);
     for (size_t c = 0; c < k; ++c) {
