@@ -246,6 +246,7 @@ struct RoundSummary {
   double initial_cost = 0.0, final_cost = 0.0;
   int iterations = 0;
   Eigen::MatrixXd intrinsics_inverse_hessian;  // block solver only (MotionBlockSummary)
+  double final_radius = 0.0;                   // block solver only
 };
 
 // Whether a round can run on the motion-block normal equations (motion_normal_equations.h):
@@ -302,6 +303,7 @@ RoundSummary SolveRoundByBlocks(const GlobalBAOptions& options, int round, bool 
   so.function_tolerance = options.function_tolerance;
   so.parameter_tolerance = options.parameter_tolerance;
   so.initial_radius = options.initial_trust_region_radius;
+  so.embedded_similarity_iterations = options.embedded_similarity_iterations;
   const MotionBlockCallback report = [&](int iteration, double cost) {
     if (iteration == 0 && (round > 0 || !report_start)) return;
     if (iteration > 0) ++summary->iterations;
@@ -320,6 +322,7 @@ RoundSummary SolveRoundByBlocks(const GlobalBAOptions& options, int round, bool 
   for (auto& [id, block] : u->intrinsics) block.x = intrinsics[intrinsic_index.at(id)];
   RoundSummary out{!s.usable, s.message, s.initial_cost, s.final_cost, s.iterations};
   out.intrinsics_inverse_hessian = s.intrinsics_inverse_hessian;
+  out.final_radius = s.final_radius;
   return out;
 }
 
@@ -446,6 +449,7 @@ GlobalBAResult internal::RunGlobalBA(const std::map<uint32_t, Pose>& initial_pos
     if (round == 0) summary.initial_cost = s.initial_cost;
     summary.final_cost = s.final_cost;
     intrinsics_inverse_hessian = s.intrinsics_inverse_hessian;
+    summary.final_trust_region_radius = s.final_radius;
     summary.rounds = round + 1;
     for (auto& [id, block] : u.poses) block.Relinearize();
     for (MotionTerm& t : u.terms) t.sim.Relinearize();

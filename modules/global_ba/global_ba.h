@@ -75,6 +75,13 @@ struct GlobalBAOptions {
   // damping held back the weak directions (the motions' scales) and the radius grew 3x per
   // step, 7 + 5 iterations on a 70-image orbit where 1e8 takes 3 + 2 to the same optimum.
   double initial_trust_region_radius = 1e8;
+  // Gauss-Newton iterations on each motion's similarity after every pose step of the
+  // motion-block solver, the poses held (variable projection in effect: why in
+  // motion_normal_equations.cc, OptimizeSimilarity). Measured on the long-focal loop seed 1,
+  // the last re-linearised solve: 0 crawled 25 iterations (the cap) at gain ratio ~0.63 along
+  // the scale valley, cost 875.6 -> 866.9 and still falling; 1 converged in 12 to 866.6.
+  // 0: the plain joint step.
+  int embedded_similarity_iterations = 1;
   // Fitting error of triplet s: e_s = |W_s (x_s - x0_s)| / n_s with n_s the residual norm of
   // a 1 px pixel error (sqrt(gamma/M) for kHessian, 1 for kScalar); robust scale sigma = the
   // median of e_s. IRLS weight w_s = 1 / (1 + (e_s / (irls_factor sigma))^2) (Cauchy);
@@ -144,7 +151,7 @@ struct GlobalBAOptions {
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(GlobalBAOptions, weighting, gauge, similarity_init, max_rounds,
                                                 max_iterations_per_round, round_tolerance, function_tolerance,
-                                                parameter_tolerance, initial_trust_region_radius, irls_factor, huber_factor,
+                                                parameter_tolerance, initial_trust_region_radius, embedded_similarity_iterations, irls_factor, huber_factor,
                                                 scalar_rotation_sigma, scalar_position_sigma, num_threads,
                                                 max_relinearizations, relinearize_misfit, relinearize_tolerance,
                                                 relinearize_checked, relinearize_cost_tolerance,
@@ -194,6 +201,9 @@ struct GlobalBASummary {
   int relinearizations = 0;
   double relinearization_seconds = 0.0;
   double relinearization_displacement = std::numeric_limits<double>::quiet_NaN();
+  // The motion-block solver's trust region radius at the end of the last solve (0 when Ceres
+  // ran it): a re-linearised solve starts there (relinearization.cc, SolveAgain).
+  double final_trust_region_radius = 0.0;
 };
 
 // Self-calibration: one camera's intrinsic unknowns of the global BA (paper, "Self-calibrating

@@ -52,6 +52,9 @@ struct MotionBlockSolverOptions {
   double function_tolerance = 1e-6;
   double parameter_tolerance = 1e-8;
   double initial_radius = 1e4;
+  // Gauss-Newton iterations on each motion's similarity after every pose step, the poses held
+  // (OptimizeSimilarity in the .cc: why). 0: the plain joint step.
+  int embedded_similarity_iterations = 0;
 };
 
 struct MotionBlockSummary {
@@ -60,6 +63,7 @@ struct MotionBlockSummary {
   int iterations = 0;
   double initial_cost = 0.0;
   double final_cost = 0.0;
+  double final_radius = 0.0;  // the trust region radius the solve ended with
   // (J^T J)^-1 of the intrinsic unknowns at the end (undamped, similarities eliminated, the
   // gauge held), concatenated in MotionBlockProblem::intrinsics order: times the pixel noise
   // variance, their covariance. Empty without intrinsics or if not factorisable.

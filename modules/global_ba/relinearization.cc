@@ -160,9 +160,14 @@ double Displacement(const GlobalBAResult& result, const std::vector<LocalHessian
 }
 
 // A re-linearised solve from `poses`, its iterations counted on after those in `total` (the
-// callback sees one continuous count) and added to it.
-GlobalBAResult SolveAgain(const std::map<uint32_t, Pose>& poses, const Models& models, const GlobalBAOptions& options,
+// callback sees one continuous count) and added to it. It starts from the trust region the
+// previous solve ended with: the re-taken models differ little from the old ones near the
+// solution, and restarting at initial_trust_region_radius damped the weak directions again
+// (long-focal loop seed 1, the last solve: 12 iterations from 1e8, 4 from the carried 3.5e10).
+GlobalBAResult SolveAgain(const std::map<uint32_t, Pose>& poses, const Models& models, const GlobalBAOptions& given,
                           const GlobalBAIterationCallback& callback, const GcpInput* gcps, GlobalBASummary* total) {
+  GlobalBAOptions options = given;
+  options.initial_trust_region_radius = std::max(given.initial_trust_region_radius, total->final_trust_region_radius);
   const int offset = total->iterations;
   GlobalBAIterationCallback shifted;
   if (callback)
@@ -176,6 +181,7 @@ GlobalBAResult SolveAgain(const std::map<uint32_t, Pose>& poses, const Models& m
   const GlobalBASummary& s = result.summary;
   total->iterations += s.iterations;
   total->rounds += s.rounds;
+  total->final_trust_region_radius = s.final_trust_region_radius;
   total->cost_per_iteration.insert(total->cost_per_iteration.end(), s.cost_per_iteration.begin(),
                                    s.cost_per_iteration.end());
   return result;

@@ -35,13 +35,14 @@ double TripletRotationMisfit(const Reconstruction& tracks, const std::map<uint32
 }
 
 std::map<uint32_t, Pose> TripletPointlessStart(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
-                                               const std::vector<Triplet>& triplets) {
+                                               const std::vector<Triplet>& triplets, int max_iterations) {
   // The triplets come converged from their own BA (triplet stage): h is taken where they are.
   LocalHessianOptions paper_lh;
   paper_lh.max_iterations = 0;
   GlobalBAOptions paper_ba;
   paper_ba.max_rounds = 1;
   paper_ba.max_relinearizations = 0;
+  paper_ba.max_iterations_per_round = max_iterations;
   const LocalHessianResult h = ComputeLocalHessians(tracks, triplets, paper_lh);
   const GlobalBAResult r =
       RelinearizedGlobalBA(tracks, paper_lh, initial, MotionsOfTriplets(triplets), h.hessians, paper_ba);

@@ -29,9 +29,10 @@ namespace pgba {
 double TripletRotationMisfit(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
                              const std::vector<Triplet>& triplets);
 
-// The poses of the triplets' pointless BA from `initial` (paper settings, one IRLS round, no
-// re-linearisation: only a linearisation point). Images that BA leaves out keep `initial`.
+// The poses of the triplets' pointless BA from `initial` (paper settings, one IRLS round of at
+// most `max_iterations`, no re-linearisation: only a linearisation point). Images that BA
+// leaves out keep `initial`.
 std::map<uint32_t, Pose> TripletPointlessStart(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
-                                               const std::vector<Triplet>& triplets);
+                                               const std::vector<Triplet>& triplets, int max_iterations);
 
 }  // namespace pgba

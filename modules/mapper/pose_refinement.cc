@@ -85,7 +85,8 @@ void MeasureTripletStart(const Reconstruction& tracks, const std::map<uint32_t, 
   PGBA_LOG_INFO << "local motions: initial poses " << hessians->triplet_rotation_misfit
                 << " triplet residuals off their triplets' rotations"
                 << (hessians->triplet_start ? ": linearised at the triplets' pointless BA instead" : "");
-  if (hessians->triplet_start) hessians->linearization_poses = TripletPointlessStart(tracks, initial, triplets);
+  if (hessians->triplet_start) hessians->linearization_poses =
+      TripletPointlessStart(tracks, initial, triplets, options.triplet_start_max_iterations);
 }
 
 PreparedHessians PrepareLocalHessians(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,

@@ -148,8 +148,10 @@ INSTANTIATE_TEST_SUITE_P(Scenarios, DefaultOnScene,
 // 1.7-8 on the scenes above), so the whole-track motions are linearised where the triplets'
 // pointless BA puts the poses (mapper/linearization_start.h); from the initial poses they had
 // ended 42x less accurate than the point-based BA. Measured here: misfit 1140.6 (threshold
-// 300); relative rotation error median 0.951x, max 0.893x point-based, sigma 0.9997x; the
-// bounds sit ~1.5% above.
+// 300); relative rotation error median 0.951x, max 0.908x point-based, sigma 0.9996x; the
+// bounds sit ~1.5% above. Iterations of the pointless BA (all passes): 12 = 4 + 4 + 4; before
+// the embedded similarity iterations and the carried trust region, 33 (the last solve crawled
+// to its cap of 25 along the scale valley: motion_normal_equations.cc, OptimizeSimilarity).
 TEST(DefaultOnLongFocal, TripletStartReachesPointBasedPoses) {
   const SyntheticScene scene = test::AcceptanceScene(SyntheticScenario::kLongFocal, 0, /*seed=*/1);
   BenchmarkOptions options;
@@ -172,8 +174,9 @@ TEST(DefaultOnLongFocal, TripletStartReachesPointBasedPoses) {
   const GroundTruthErrors& gl = *pl.metrics.ground_truth;
   const GroundTruthErrors& gb = *pb.metrics.ground_truth;
   EXPECT_LE(gl.rel_rot_err_deg_median, 0.965 * gb.rel_rot_err_deg_median);
-  EXPECT_LE(gl.rel_rot_err_deg_max, 0.907 * gb.rel_rot_err_deg_max);
+  EXPECT_LE(gl.rel_rot_err_deg_max, 0.922 * gb.rel_rot_err_deg_max);
   EXPECT_LE(pl.metrics.sigma.rms, 1.001 * pb.metrics.sigma.rms);
+  EXPECT_LE(pl.refinement.iterations, 14);
   EXPECT_LE(4 * pl.refinement.num_params, pb.refinement.num_params);
 }
 

@@ -170,6 +170,7 @@ Table BuildTable() {
   t["local_motions.max_iterations"] = kNonNegative;
   t["local_motions.neighbour_strides[]"] = kAtLeastOne;
   t["local_motions.triplet_start_misfit"] = Unbounded();  // <= 0: never
+  t["local_motions.triplet_start_max_iterations"] = kAtLeastOne;
   t["local_hessian.max_iterations"] = kNonNegative;
   t["local_hessian.attenuation_q"] = Unbounded();  // <= 0 disables the attenuation
   t["local_hessian.huber_px"] = kPositive;
@@ -186,6 +187,7 @@ Table BuildTable() {
   t["global_ba.function_tolerance"] = kNonNegative;
   t["global_ba.parameter_tolerance"] = kNonNegative;
   t["global_ba.initial_trust_region_radius"] = kPositive;
+  t["global_ba.embedded_similarity_iterations"] = kNonNegative;
   t["global_ba.irls_factor"] = Unbounded();   // <= 0 disables the reweighting
   t["global_ba.huber_factor"] = Unbounded();  // <= 0 disables the Huber loss
   t["global_ba.scalar_rotation_sigma"] = kPositive;
