@@ -13,6 +13,7 @@
 //
 // Run: build/bin/example_triplet_local_hessian   (prints "key: value" lines)
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <set>
