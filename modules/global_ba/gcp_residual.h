@@ -3,7 +3,7 @@
 // P_GCP the given coordinates (GCP frame = global frame after the frame transfer of
 // gcp_alignment.h), p_GCP the GCP triangulated in the triplet's local frame from its local
 // poses x0, and d_s^-1 the current local->global similarity of triplet s, i.e. the inverse
-// of the centroid form of triplet_similarity.h:
+// of the centroid form of motion_similarity.h:
 //     d_s(X)    = lambda alpha (X - G) + beta,
 //     d_s^-1(p) = alpha^T (p - beta) / lambda + G.
 // Whitened by the GCP's sigma and weighted 1 / n (gcp_constraint.h explains the choice); rho

@@ -2,7 +2,7 @@
 // (the same relative motions averaged with scalar weights instead of the local Hessians).
 //
 // Unknowns: every global pose (PoseBlock: [C, omega], R = R0 Exp(omega)) and 7 similarity
-// parameters per triplet (triplet_similarity.h). Cost: sum_s w_s rho_s(|W_s (x_s - x0_s)|^2)
+// parameters per triplet (motion_similarity.h). Cost: sum_s w_s rho_s(|W_s (x_s - x0_s)|^2)
 // with rho_s Huber and w_s the IRLS weight from the triplet's fitting error. Solved by
 // Ceres (Levenberg-Marquardt, SPARSE_SCHUR, similarity blocks eliminated first) in IRLS
 // rounds; between rounds the weights are recomputed and the rotations re-linearised.

@@ -1,7 +1,7 @@
 // JSON configuration files: one top-level section per pipeline stage, each read into that
-// stage's Options struct.
+// stage's Options struct (tests/examples/json_config_example_test.cc parses the example):
 //
-//   { "triplets": { "min_points": 30 }, "global_ba": { "huber_px": 1.0 } }
+//   { "triplets": { "min_tracks": 30 }, "global_ba": { "huber_factor": 3.0 } }
 //
 // Every stage's Options is declared JSON-loadable with
 // NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT; that is the whole registration needed:
@@ -15,7 +15,7 @@
 // Unknown top-level sections are caught by a ConfigSchema, the registry of every section a
 // command accepts (apps build it from the Options of the stages they run):
 //   ConfigSchema schema;
-//   schema.Add<TripletOptions>("triplets").Add<GlobalBaOptions>("global_ba");
+//   schema.Add<TripletOptions>("triplets").Add<GlobalBAOptions>("global_ba");
 //   const Config config = LoadConfig(path, schema);
 //   ReadSection(config, "triplets", &triplet_options);
 #pragma once
