@@ -25,6 +25,11 @@ struct RelativePoseOptions {
   double threshold_px = 2.0;
   // Minimal solver: "stewenius" or "nister" (OpenGV, 5 points + 3 to disambiguate).
   std::string algorithm = "stewenius";
+  // How RANSAC scores a hypothesis: "sampson" (essential_ransac.h: the Sampson angle of the
+  // 5-point E, MSAC loss with bail-out and local optimisation, cheirality of the final model
+  // only) or "opengv" (OpenGV's CentralRelativePoseSacProblem: each correspondence
+  // triangulated and reprojected for every hypothesis; the default before issue 16).
+  std::string scoring = "sampson";
   // RANSAC limits: hypotheses and the confidence of having drawn one all-inlier sample.
   int max_iterations = 2000;
   double confidence = 0.9999;
@@ -39,7 +44,7 @@ struct RelativePoseOptions {
   // Below this many inliers the estimate is a failure.
   int min_inliers = 15;
 };
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(RelativePoseOptions, threshold_px, algorithm, max_iterations,
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(RelativePoseOptions, threshold_px, algorithm, scoring, max_iterations,
                                                 confidence, seed, refine, huber_px, max_refine_correspondences,
                                                 min_inliers)
 
