@@ -1,10 +1,11 @@
 // RANSAC for the calibrated relative pose that scores hypotheses by the Sampson error on the
 // unit spheres instead of triangulating every correspondence (OpenGV's CentralRelativePose
 // SacProblem triangulates and reprojects each one for each of a hypothesis' up to 40 poses):
-// a 5-point essential matrix is scored directly, ~20 flops per correspondence, and only the
-// final model is decomposed into (R, t) and checked for cheirality.
+// a 5-point essential matrix is scored directly, ~20 flops per correspondence, and only a
+// hypothesis that beats the best so far is decomposed into (R, t) and checked for cheirality.
 //
-// MSAC loss (truncated quadratic, Torr & Zisserman 2000), an early bail-out when a
+// Models ranked by their outliers, then by the MSAC loss (truncated quadratic, Torr & Zisserman
+// 2000) among equals, an early bail-out when a
 // hypothesis' partial loss already exceeds the best one's, and the adaptive number of
 // iterations of a given confidence (Fischler & Bolles) from the best inlier ratio so far.
 // Deterministic for a given seed.
@@ -39,7 +40,7 @@ struct EssentialRansacResult {
   Eigen::Matrix3d R_21 = Eigen::Matrix3d::Identity();
   Eigen::Vector3d t_21 = Eigen::Vector3d::UnitX();
   Eigen::Matrix3d E_21 = Eigen::Matrix3d::Zero();  // b2^T E_21 b1 = 0
-  int num_inliers = 0;  // of E under the threshold (before the cheirality check)
+  int num_inliers = 0;  // of E under the threshold and in front of both cameras
   int iterations = 0;
 };
 
