@@ -304,7 +304,7 @@ RelativePoseResult EstimateRelativePose(const std::vector<Eigen::Vector3d>& bear
   Eigen::Matrix3d R;
   Eigen::Vector3d t;
   if (!RunRansac(bearings1, bearings2, threshold_angle, options, &R, &t, &result.ransac_iterations)) return result;
-  return FinishFromModel(bearings1, bearings2, focal_px, options, /*passes=*/2, /*stop_when_converged=*/false, R, t,
+  return FinishFromModel(bearings1, bearings2, focal_px, options, std::max(options.refine_passes, 1), options.refine_until_converged, R, t,
                          std::move(result));
 }
 

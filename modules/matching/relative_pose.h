@@ -41,6 +41,13 @@ struct RelativePoseOptions {
   // Nonlinear refinement of the Sampson error (Ceres, Huber loss) on the inliers.
   bool refine = true;
   double huber_px = 1.0;
+  // Refine + re-classify passes after RANSAC, stopping early (when `refine_until_converged`)
+  // once a pass leaves the inliers unchanged and turns the rotation by less than 1e-4 deg.
+  // Two fixed passes were enough from OpenGV's hypotheses; from the Sampson-scored ones they
+  // were not (entry_p10: the same inliers, median pair rotation error 0.056 vs 0.039 deg, max
+  // 0.40 vs 0.27 deg), and up to 6 until converged give 0.038 / 0.150 deg.
+  int refine_passes = 2;
+  bool refine_until_converged = false;
   // The refinement uses at most this many inliers, evenly spaced (a few hundred already
   // pin the pose far below the pixel noise; this keeps dense pairs cheap).
   int max_refine_correspondences = 1000;
@@ -48,7 +55,8 @@ struct RelativePoseOptions {
   int min_inliers = 15;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(RelativePoseOptions, threshold_px, algorithm, scoring, max_iterations,
-                                                confidence, seed, refine, huber_px, max_refine_correspondences,
+                                                confidence, seed, refine, huber_px, refine_passes, refine_until_converged,
+                                                max_refine_correspondences,
                                                 min_inliers)
 
 struct RelativePoseResult {

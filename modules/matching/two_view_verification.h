@@ -34,6 +34,8 @@ inline RelativePoseOptions DefaultVerificationPoseOptions() {
   // Sampson-scored RANSAC (essential_ransac.h): on fountain_p11 the same verified pairs and
   // inliers (66,928 vs 66,937) for 0.45x of the verification time.
   o.scoring = "sampson";
+  o.refine_passes = 6;
+  o.refine_until_converged = true;
   return o;
 }
 
