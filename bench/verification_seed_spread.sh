@@ -5,8 +5,11 @@
 # scored one (up to 6 passes until converged), on the same cached features. Every other option
 # is the default (configs/object_ring.json on the *_ring datasets). Per dataset and variant:
 # verified matches, tracks, and the median / max rotation error against the ground truth per
-# seed, then their spread over the seeds. One build, so the two variants see the same code
-# everywhere but the verification's scoring and refinement.
+# seed, then their spread over the seeds; the gauge-free pairwise rotation error of the final
+# model; and the minimum over the seeds of the matching time per pair (the variants alternate,
+# so a shared machine's load falls on both alike). One build, so the two variants run the same
+# code everywhere but the verification's scoring and refinement. KEEP_DIR=DIR keeps the runs
+# (and a re-run skips those already done).
 #
 # Usage: bench/verification_seed_spread.sh PGBA SEEDS [DATASET_DIR ...]
 #   (default datasets: fountain_p11 herzjesu_p8 entry_p10 temple_sparse_ring of ../shared/datasets)
@@ -28,8 +31,10 @@ for ds in "$@"; do
   name=$(basename "$ds")
   base='{}'
   [[ $name == *_ring ]] && base=$(cat "$here/configs/object_ring.json")
-  "$bin" -v 0 features --images "$ds/images" --calib "$ds/cameras.txt" --out "$tmp/feat_$name" \
-    $([[ $name == *_ring ]] && echo --config "$here/configs/object_ring.json") >/dev/null
+  # Features once, shared by every run (`pgba features` takes no config: the rings' preset SIFT
+  # options are extracted by each run itself, a few seconds on 640x480 photos).
+  mkdir -p "$tmp/feat_$name"
+  [[ $name == *_ring ]] || "$bin" -v 0 features --images "$ds/images" --calib "$ds/cameras.txt" --out "$tmp/feat_$name" >/dev/null
   for ((s = 0; s < seeds; ++s)); do
     for v in opengv sampson; do
       out="$tmp/${name}_${v}_$s"
@@ -53,12 +58,13 @@ done
 python3 - "$tmp" "$seeds" "$@" <<'PY'
 import json, os, statistics, sys
 tmp, seeds, dsets = sys.argv[1], int(sys.argv[2]), [os.path.basename(d.rstrip("/")) for d in sys.argv[3:]]
-print("dataset | verification | seeds | verified matches (min-max) | tracks (min-max) | rot err median deg: per seed | "
-      "mean | min-max | rot err max deg: mean | min-max")
-print("---|---|---|---|---|---|---|---|---|---")
+print("dataset | verification | seeds | ms/pair matching (wall, min) | ms/pair verification (thread, min) | "
+      "verified matches (min-max) | tracks (min-max) | rot err median deg: per seed | mean | min-max | "
+      "rot err max deg: mean | min-max | pairwise rot err median deg: mean | min-max")
+print("---|---|---|---|---|---|---|---|---|---|---|---|---|---")
 for name in dsets:
     for v in ("opengv", "sampson"):
-        med, mx, vm, tr = [], [], [], []
+        med, mx, vm, tr, ms, vs, rel = [], [], [], [], [], [], []
         for s in range(seeds):
             p = f"{tmp}/{name}_{v}_{s}/report.json"
             if not os.path.exists(p):
@@ -67,11 +73,15 @@ for name in dsets:
             e = r.get("evaluation", {})
             med.append(e.get("rot_err_deg_median", float("nan")))
             mx.append(e.get("rot_err_deg_max", float("nan")))
+            rel.append(e.get("rel_rot_err_deg_median", float("nan")))
             vm.append(r["stages"]["match"]["verified_matches"])
             tr.append(r["stages"]["match"].get("tracks", -1))
+            ms.append(1000 * r["stages"]["match"]["seconds_per_pair"])
+            vs.append(1000 * r["stages"]["match"]["thread_seconds_per_pair_verification"])
         if not med:
             continue
-        print(f"{name} | {v} | {len(med)} | {min(vm)}-{max(vm)} | {min(tr)}-{max(tr)} | "
+        print(f"{name} | {v} | {len(med)} | {min(ms):.1f} | {min(vs):.1f} | {min(vm)}-{max(vm)} | {min(tr)}-{max(tr)} | "
               f"{' '.join(f'{x:.4f}' for x in med)} | {statistics.mean(med):.4f} | {min(med):.4f}-{max(med):.4f} | "
-              f"{statistics.mean(mx):.4f} | {min(mx):.4f}-{max(mx):.4f}")
+              f"{statistics.mean(mx):.4f} | {min(mx):.4f}-{max(mx):.4f} | {statistics.mean(rel):.4f} | "
+              f"{min(rel):.4f}-{max(rel):.4f}")
 PY
