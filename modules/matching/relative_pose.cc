@@ -17,6 +17,7 @@
 #include <memory>
 #include <stdexcept>
 
+#include "modules/matching/essential_ransac.h"
 #include "modules/matching/opengv_rng.h"
 #include "pgba/geometry/rotation.h"
 
@@ -70,6 +71,22 @@ SacProblem::Algorithm ParseAlgorithm(const std::string& name) {
 // OpenGV's RANSAC with its sampling driven by our seeded engine (opengv_rng.h).
 bool RunRansac(const std::vector<Eigen::Vector3d>& b1, const std::vector<Eigen::Vector3d>& b2, double threshold_angle,
                const RelativePoseOptions& options, Eigen::Matrix3d* R_21, Eigen::Vector3d* t_21, int* iterations) {
+  if (options.scoring == "sampson") {
+    EssentialRansacOptions o;
+    o.threshold_angle = threshold_angle;
+    o.algorithm = options.algorithm;
+    o.max_iterations = options.max_iterations;
+    o.confidence = options.confidence;
+    o.seed = options.seed;
+    const EssentialRansacResult r = EssentialRansac(b1, b2, o);
+    *iterations = r.iterations;
+    if (!r.success) return false;
+    *R_21 = ClosestRotation(r.R_21);
+    *t_21 = r.t_21.normalized();
+    return true;
+  }
+  if (options.scoring != "opengv")
+    throw std::invalid_argument("unknown relative pose scoring '" + options.scoring + "' (sampson, opengv)");
   opengv::bearingVectors_t f1(b1.begin(), b1.end()), f2(b2.begin(), b2.end());
   opengv::relative_pose::CentralRelativeAdapter adapter(f1, f2);
   auto problem = std::make_shared<SacProblem>(adapter, ParseAlgorithm(options.algorithm), /*randomSeed=*/false);
@@ -287,7 +304,7 @@ RelativePoseResult EstimateRelativePose(const std::vector<Eigen::Vector3d>& bear
   Eigen::Matrix3d R;
   Eigen::Vector3d t;
   if (!RunRansac(bearings1, bearings2, threshold_angle, options, &R, &t, &result.ransac_iterations)) return result;
-  return FinishFromModel(bearings1, bearings2, focal_px, options, /*passes=*/2, /*stop_when_converged=*/false, R, t,
+  return FinishFromModel(bearings1, bearings2, focal_px, options, std::max(options.refine_passes, 1), options.refine_until_converged, R, t,
                          std::move(result));
 }
 

@@ -25,6 +25,14 @@ struct RelativePoseOptions {
   double threshold_px = 2.0;
   // Minimal solver: "stewenius" or "nister" (OpenGV, 5 points + 3 to disambiguate).
   std::string algorithm = "stewenius";
+  // How RANSAC scores a hypothesis: "sampson" (essential_ransac.h: the Sampson angle of the
+  // 5-point E, MSAC loss with bail-out and local optimisation, cheirality of the final model
+  // only) or "opengv" (OpenGV's CentralRelativePoseSacProblem: each correspondence
+  // triangulated and reprojected for every hypothesis). The front end's verification uses
+  // "sampson" (DefaultVerificationPoseOptions); the view graph of the tracks pipeline keeps
+  // "opengv" for now: its tests pin values of it (GlobalMapper.Planar* expect an
+  // inconsistent pair that Sampson scoring no longer produces).
+  std::string scoring = "opengv";
   // RANSAC limits: hypotheses and the confidence of having drawn one all-inlier sample.
   int max_iterations = 2000;
   double confidence = 0.9999;
@@ -33,14 +41,22 @@ struct RelativePoseOptions {
   // Nonlinear refinement of the Sampson error (Ceres, Huber loss) on the inliers.
   bool refine = true;
   double huber_px = 1.0;
+  // Refine + re-classify passes after RANSAC, stopping early (when `refine_until_converged`)
+  // once a pass leaves the inliers unchanged and turns the rotation by less than 1e-4 deg.
+  // Two fixed passes were enough from OpenGV's hypotheses; from the Sampson-scored ones they
+  // were not (entry_p10: the same inliers, median pair rotation error 0.056 vs 0.039 deg, max
+  // 0.40 vs 0.27 deg), and up to 6 until converged give 0.038 / 0.150 deg.
+  int refine_passes = 2;
+  bool refine_until_converged = false;
   // The refinement uses at most this many inliers, evenly spaced (a few hundred already
   // pin the pose far below the pixel noise; this keeps dense pairs cheap).
   int max_refine_correspondences = 1000;
   // Below this many inliers the estimate is a failure.
   int min_inliers = 15;
 };
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(RelativePoseOptions, threshold_px, algorithm, max_iterations,
-                                                confidence, seed, refine, huber_px, max_refine_correspondences,
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(RelativePoseOptions, threshold_px, algorithm, scoring, max_iterations,
+                                                confidence, seed, refine, huber_px, refine_passes, refine_until_converged,
+                                                max_refine_correspondences,
                                                 min_inliers)
 
 struct RelativePoseResult {

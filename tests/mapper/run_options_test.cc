@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "pgba/io/json_config.h"
 #include "pgba/util/error.h"
 
 namespace pgba {
@@ -40,6 +41,55 @@ TEST(RunOptions, UnknownKeyNamesTheFile) {
     EXPECT_NE(std::string(e.what()).find("huber_facter"), std::string::npos) << e.what();
   }
   fs::remove(path);
+}
+
+// One key under matching.verification.relative_pose overrides that key only: the block's other
+// fields keep the front end's verification defaults (1 px, 40 inliers, Sampson scoring, up to 6
+// refinement passes until converged; two_view_verification.h), not RelativePoseOptions' generic
+// ones (2 px, 15 inliers, OpenGV scoring, 2 fixed passes), and the other blocks are untouched.
+TEST(RunOptions, OneRelativePoseKeyKeepsTheOthers) {
+  const fs::path path = fs::temp_directory_path() / "pgba_run_options_one_key.json";
+  std::ofstream(path) << R"({"matching": {"verification": {"relative_pose": {"seed": 7}}},
+                             "pairs": {"relative_pose": {"min_inliers": 33}}})";
+  const RunOptions o = LoadRunOptions(path.string());
+  fs::remove(path);
+  const RelativePoseOptions& v = o.matching.verification.relative_pose;
+  EXPECT_EQ(v.seed, 7u);
+  EXPECT_EQ(v.threshold_px, 1.0);
+  EXPECT_EQ(v.min_inliers, 40);
+  EXPECT_EQ(v.scoring, "sampson");
+  EXPECT_EQ(v.refine_passes, 6);
+  EXPECT_TRUE(v.refine_until_converged);
+  EXPECT_EQ(v.algorithm, "stewenius");
+  EXPECT_EQ(v.max_iterations, 2000);
+  EXPECT_EQ(o.matching.verification.min_inlier_ratio, 0.1);
+  EXPECT_EQ(o.matching.verification.max_rotation_sd_deg, 1.0);
+  // The tracks' view graph: its own block, generic defaults but the one key given.
+  const RelativePoseOptions& p = o.reconstruction.mapper.pairs.relative_pose;
+  EXPECT_EQ(p.min_inliers, 33);
+  EXPECT_EQ(p.threshold_px, 2.0);
+  EXPECT_EQ(p.scoring, "opengv");
+  EXPECT_EQ(p.refine_passes, 2);
+  EXPECT_FALSE(p.refine_until_converged);
+}
+
+// Layered presets: a value set before the file is read and not named by it survives, at every
+// depth of the nested blocks.
+TEST(RunOptions, NestedBlockKeepsPresetValues) {
+  const fs::path path = fs::temp_directory_path() / "pgba_run_options_layered.json";
+  std::ofstream(path) << R"({"matching": {"verification": {"relative_pose": {"threshold_px": 1.5}}}})";
+  const Config config = Config::Load(path.string());
+  fs::remove(path);
+  MatchingOptions m;
+  m.verification.relative_pose.min_inliers = 55;
+  m.verification.relative_pose.scoring = "opengv";
+  m.verification.min_inlier_ratio = 0.2;
+  ReadSection(config, "matching", &m);
+  EXPECT_EQ(m.verification.relative_pose.threshold_px, 1.5);
+  EXPECT_EQ(m.verification.relative_pose.min_inliers, 55);
+  EXPECT_EQ(m.verification.relative_pose.scoring, "opengv");
+  EXPECT_EQ(m.verification.relative_pose.refine_passes, 6);
+  EXPECT_EQ(m.verification.min_inlier_ratio, 0.2);
 }
 
 }  // namespace

@@ -47,6 +47,7 @@ void AddRelativePose(const std::string& prefix, Table* t) {
   (*t)[prefix + ".confidence"] = kProbability;
   (*t)[prefix + ".seed"] = Unbounded();
   (*t)[prefix + ".huber_px"] = kPositive;
+  (*t)[prefix + ".refine_passes"] = kAtLeastOne;  // refine + re-classify passes after RANSAC
   (*t)[prefix + ".max_refine_correspondences"] = AtLeast(5);  // the 5-point minimum
   (*t)[prefix + ".min_inliers"] = AtLeast(5);
 }
