@@ -13,12 +13,12 @@
 namespace pgba {
 
 struct SiftOptions {
-  // Which SIFT: "pgba" (pgba_sift.h: the algorithm of OpenCV's with the pyramid, the extrema
-  // and the descriptors parallel inside one image, images one at a time) or "opencv" (cv::SIFT
-  // of OpenCV 4.6, whose pyramid is built on one thread; images in parallel). pgba's is the
-  // default by measurement (README "Measured: front-end speed (issue 16)"): the same keypoints
-  // and repeatability as OpenCV's, 0.8x its time per 6 MP image on the loaded 2-core machine.
-  std::string implementation = "pgba";
+  // Which SIFT: "opencv" (cv::SIFT of OpenCV 4.6, which builds its pyramid on one thread)
+  // or "pgba" (pgba_sift.h: the same algorithm with the pyramid, the extrema and the
+  // descriptors parallel inside one image). OpenCV's is the default by measurement: on the
+  // loaded 2-core machine, with images already in parallel, pgba's took 1.0-1.75x its time
+  // per image (README "Measured: front-end speed (issue 16)").
+  std::string implementation = "opencv";
   // Keep at most this many keypoints (the strongest responses); COLMAP's default.
   int max_features = 8192;
   // RootSIFT descriptors (better matching at no cost); false gives plain SIFT.

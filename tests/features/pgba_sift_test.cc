@@ -140,11 +140,11 @@ TEST(PgbaSift, ByteIdenticalForAnyThreadCount) {
 
 TEST(PgbaSift, ImplementationIsValidatedAndInTheCacheKey) {
   SiftOptions o;
-  EXPECT_EQ(o.implementation, "pgba");
+  EXPECT_EQ(o.implementation, "opencv");
   o.implementation = "vlfeat";
   EXPECT_THROW(ValidateSiftOptions(o), InputError);
   SiftOptions a, b;
-  b.implementation = "opencv";
+  b.implementation = "pgba";
   EXPECT_NO_THROW(ValidateSiftOptions(b));
   EXPECT_NE(SiftOptionsKey(a), SiftOptionsKey(b));
 }
