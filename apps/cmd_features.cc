@@ -1,5 +1,6 @@
 // pgba features --images DIR [--calib cameras.txt] [--camera-map FILE] --out WS
-//   [--max-features N] [--root-sift|--no-root-sift] [--max-image-size PX] [--no-cache]
+//   [--max-features N] [--root-sift|--no-root-sift] [--max-image-size PX] [--sift-implementation pgba|opencv]
+//   [--no-cache]
 #include <filesystem>
 
 #include "apps/commands.h"
@@ -28,6 +29,10 @@ void RegisterFeatures(CLI::App& app) {
   sub->add_option("--max-image-size", args->options.sift.max_image_size,
                   "downscale images whose larger side exceeds this (pixels; 0 = never)")
       ->check(InConfigRange("features.sift.max_image_size"))
+      ->capture_default_str();
+  sub->add_option("--sift-implementation", args->options.sift.implementation,
+                  "SIFT implementation: pgba (own, parallel inside an image) or opencv")
+      ->check(CLI::IsMember({"pgba", "opencv"}))
       ->capture_default_str();
   sub->add_flag("!--no-cache", args->options.use_cache, "recompute even where cached features exist");
   AddCommand(app, sub, [args] {

@@ -1,5 +1,6 @@
 #include "features/extract_features.h"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -117,9 +118,20 @@ FeatureExtractionResult ExtractFeatures(const std::string& images_dir, const Cal
   // The scale-space buffers of a finished image serve the next one (buffer_pool.h): up to
   // one 6 MP image's worth (~2 GiB at the 2x upsampled octave) per image in flight.
   std::optional<ScopedImageBufferPool> buffer_pool;
-  if (options.reuse_buffers) buffer_pool.emplace((size_t(2) << 30) * static_cast<size_t>(arena.max_concurrency()));
+  if (options.reuse_buffers)
+    buffer_pool.emplace((size_t(2) << 30) *
+                        static_cast<size_t>(options.max_parallel_images <= 0 && options.sift.implementation == "pgba"
+                                                ? 1
+                                                : arena.max_concurrency()));
+  // pgba's SIFT is parallel inside one image (pyramid rows, extrema blocks, descriptors), so
+  // by default its images go one at a time: one scale space in memory instead of one per
+  // core, and on the project's VM the first touch of fresh memory (the kernel zeroing pages
+  // the host backs lazily, ~2 s per GB) was the largest single cost of the first images.
+  const bool one_at_a_time = options.max_parallel_images <= 0 && options.sift.implementation == "pgba";
+  const size_t grain = one_at_a_time ? n + 1 : 1;
   arena.execute([&] {
-    tbb::parallel_for(size_t(0), n, [&](size_t i) {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, grain), [&](const tbb::blocked_range<size_t>& range) {
+     for (size_t i = range.begin(); i < range.end(); ++i) {
       const std::string& name = catalog.files[i];
       const auto it = catalog.camera_of.find(name);
       const Camera* camera = it == catalog.camera_of.end() ? nullptr : &catalog.cameras.at(it->second);
@@ -133,6 +145,7 @@ FeatureExtractionResult ExtractFeatures(const std::string& images_dir, const Cal
         outcomes[i].reason = std::string("OpenCV failed: ") + e.what();
       }
       progress.Increment();
+     }
     });
   });
   progress.Finish();

@@ -10,8 +10,13 @@ namespace pgba {
 
 // Separable Gaussian blur of a CV_32F image (kernel radius round(4 sigma) as OpenCV's for
 // float images, borders reflected without repeating the edge pixel as OpenCV's default).
-// dst may not alias src.
-void ParallelGaussianBlur(const cv::Mat& src, cv::Mat& dst, double sigma);
+// dst may not alias src. One pass over the image: each output row is the vertical sum of its
+// 2r + 1 source rows (cache-resident) into a row buffer, then the horizontal sum of that
+// buffer, 8 floats at a time; no full-size intermediate image is written. With
+// dog, also dog = dst - src, computed while the row is in cache (the DoG layer of SIFT).
+// The inner loops are compiled for AVX2 as well as the baseline and chosen at run time;
+// neither uses FMA, so both give the same bits.
+void ParallelGaussianBlur(const cv::Mat& src, cv::Mat& dst, double sigma, cv::Mat* dog = nullptr);
 
 // 8-bit image -> CV_32F image of twice the size, bilinear: output pixel u samples the input
 // at u/2 - 0.25 (pixel centres at integers; the same grid as OpenCV's INTER_LINEAR_EXACT

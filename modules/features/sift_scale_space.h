@@ -12,10 +12,9 @@ struct SiftScaleSpace {
   int layers_per_octave = 3;  // s: scales per octave where extrema are sought
   double sigma = 1.6;         // blur of each octave's first layer, in that octave's pixels
   bool upsampled = false;     // octave 0 is the input doubled (first octave -1)
-  // gaussians[o] has s + 3 layers, dogs[o] s + 2 (dogs[o][i] = gaussians[o][i+1] - [i]);
-  // only layers 1..s, where keypoints live, are kept: 0, s+1 and s+2 are empty once built.
+  // gaussians[o] has s + 3 layers; DoG layer i of octave o is gaussians[o][i+1] - [i],
+  // computed by the detector where it reads it (sift_keypoints.cc), not stored.
   std::vector<std::vector<cv::Mat>> gaussians;
-  std::vector<std::vector<cv::Mat>> dogs;
   int num_octaves() const { return static_cast<int>(gaussians.size()); }
 };
 

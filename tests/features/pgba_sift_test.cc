@@ -10,6 +10,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "features/gaussian_blur.h"
 #include "features/sift_extractor.h"
 #include "pgba/util/error.h"
 
@@ -136,6 +137,29 @@ TEST(PgbaSift, ByteIdenticalForAnyThreadCount) {
     ASSERT_EQ(one.keypoints[i].orientation, many.keypoints[i].orientation) << i;
   }
   EXPECT_EQ(cv::norm(one.descriptors, many.descriptors, cv::NORM_L1), 0.0);
+}
+
+TEST(PgbaSift, BlurMatchesOpenCvsGaussianBlurAndIsThreadIndependent) {
+  // The one-pass blur (vertical into a row buffer, then horizontal, 8-float vectors on the
+  // AVX2 or SSE2 path) against cv::GaussianBlur with the same kernel size and border
+  // (reflect-101), on noise whose width is not a multiple of 8 (the scalar tail).
+  cv::Mat img(203, 317, CV_32F);
+  cv::RNG rng(5);
+  rng.fill(img, cv::RNG::UNIFORM, 0.f, 255.f);
+  for (const double sigma : {1.25, 1.6, 2.5, 3.1}) {
+    cv::Mat ours, theirs, ours_one, dog;
+    ParallelGaussianBlur(img, ours, sigma, &dog);
+    const int ksize = std::max(1, static_cast<int>(std::lround(sigma * 8 + 1)) | 1);
+    cv::GaussianBlur(img, theirs, cv::Size(ksize, ksize), sigma, sigma, cv::BORDER_REFLECT_101);
+    EXPECT_LT(cv::norm(ours, theirs, cv::NORM_INF), 1e-3) << sigma;
+    cv::Mat diff = ours - img;
+    EXPECT_EQ(cv::norm(diff, dog, cv::NORM_INF), 0.0) << sigma;
+    {
+      tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
+      ParallelGaussianBlur(img, ours_one, sigma);
+    }
+    EXPECT_EQ(cv::norm(ours, ours_one, cv::NORM_INF), 0.0) << sigma;
+  }
 }
 
 TEST(PgbaSift, ImplementationIsValidatedAndInTheCacheKey) {

@@ -80,6 +80,38 @@ TEST(SiftExtractor, PixelCentreConventionIsColmaps) {
   EXPECT_THROW(ExtractSift(img, bad), InputError);
 }
 
+TEST(SiftExtractor, AnalyticGaussianBlobAtItsPositionAndScale) {
+  // A Gaussian blob exp(-r^2 / 2 s0^2) is the scale-normalised Laplacian's extremum at its
+  // centre and at the blur sigma where sigma^2 / (s0^2 + sigma^2 - 0.5^2)^2 peaks (the scale
+  // space assumes 0.5 px of camera blur already in the image): sigma = sqrt(s0^2 - 0.25).
+  // SIFT's DoG between layers sigma and k sigma (k = 2^(1/3)) is (k - 1) times the
+  // normalised Laplacian at their geometric mean sqrt(k) sigma, and the keypoint is given the
+  // lower layer's sigma: expected scale sqrt(s0^2 - 0.25) / 2^(1/6). Each implementation's
+  // strongest keypoint must be there: position to 0.05 px, scale to 3%.
+  const double s0 = 6.0, cx = 100.3, cy = 80.7;  // centre in OpenCV's integer-centre pixels
+  cv::Mat blob(160, 200, CV_32F);
+  for (int y = 0; y < blob.rows; ++y)
+    for (int x = 0; x < blob.cols; ++x)
+      blob.at<float>(y, x) = static_cast<float>(
+          30 + 200 * std::exp(-((x - cx) * (x - cx) + (y - cy) * (y - cy)) / (2 * s0 * s0)));
+  cv::Mat img;
+  blob.convertTo(img, CV_8U);
+  const double expected_scale = std::sqrt(s0 * s0 - 0.25) / std::pow(2.0, 1.0 / 6);
+  for (const char* implementation : {"opencv", "pgba"}) {
+    SiftOptions opt;
+    opt.implementation = implementation;
+    opt.max_image_size = 0;
+    const FeatureSet f = ExtractSift(img, opt);
+    ASSERT_GE(f.size(), 1u) << implementation;
+    const Keypoint& k = f.keypoints[0];
+    std::cout << implementation << ": blob at (" << k.x << ", " << k.y << ") scale " << k.scale << ", expected ("
+              << cx + 0.5 << ", " << cy + 0.5 << ") scale " << expected_scale << "\n";
+    EXPECT_NEAR(k.x, cx + 0.5, 0.05) << implementation;
+    EXPECT_NEAR(k.y, cy + 0.5, 0.05) << implementation;
+    EXPECT_NEAR(k.scale / expected_scale, 1.0, 0.03) << implementation;
+  }
+}
+
 // Fraction of the keypoints of `a` inside `b`'s frame whose position mapped by the 2x3
 // similarity A (COLMAP pixel coordinates) has a keypoint of `b` within 1.5 px and of the
 // mapped scale within a factor sqrt(2): the detector's repeatability (Mikolajczyk et al.).
