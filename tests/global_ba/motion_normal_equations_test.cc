@@ -25,19 +25,39 @@ using testing::PerturbPoses;
 using testing::PosesOf;
 using testing::RingSceneOptions;
 
-TEST(MotionBlockSolver, SameSolutionAsCeresOnTheSameObjective) {
+// An 18-view ring (0.5 px noise), its poses perturbed, whole-track motions of up to 6 views
+// and their local Hessians taken at the perturbed poses.
+struct RingMotions {
+  Reconstruction rec;
+  std::map<uint32_t, Pose> truth, initial;
+  std::vector<LocalMotion> motions;
+  LocalHessianResult hessians;
+};
+
+RingMotions MakeRingMotions() {
   RingSceneOptions ro;
   ro.num_images = 18;
   ro.num_points = 1500;
   ro.noise_px = 0.5;
   ro.seed = 11;
-  const Reconstruction rec = MakeRingScene(ro);
-  const std::map<uint32_t, Pose> truth = PosesOf(rec);
-  const std::map<uint32_t, Pose> initial = PerturbPoses(truth, 0.3, 0.01, 3);
+  RingMotions r;
+  r.rec = MakeRingScene(ro);
+  r.truth = PosesOf(r.rec);
+  r.initial = PerturbPoses(r.truth, 0.3, 0.01, 3);
   WholeTrackMotionOptions mo;
   mo.max_views = 6;
-  const std::vector<LocalMotion> motions = SelectWholeTrackMotions(rec, initial, mo);
-  const LocalHessianResult hessians = ComputeLocalHessians(rec, motions, WholeTrackLocalHessianOptions());
+  r.motions = SelectWholeTrackMotions(r.rec, r.initial, mo);
+  r.hessians = ComputeLocalHessians(r.rec, r.motions, WholeTrackLocalHessianOptions());
+  return r;
+}
+
+TEST(MotionBlockSolver, SameSolutionAsCeresOnTheSameObjective) {
+  const RingMotions ring = MakeRingMotions();
+  const Reconstruction& rec = ring.rec;
+  const std::map<uint32_t, Pose>& truth = ring.truth;
+  const std::map<uint32_t, Pose>& initial = ring.initial;
+  const std::vector<LocalMotion>& motions = ring.motions;
+  const LocalHessianResult& hessians = ring.hessians;
   ASSERT_EQ(hessians.num_ok(), static_cast<int>(motions.size()));
 
   GlobalBAOptions blocks = WholeTrackGlobalBAOptions();
@@ -86,17 +106,7 @@ TEST(MotionBlockSolver, SameSolutionAsCeresOnTheSameObjective) {
 // the path, not the optimum: the same final cost as the plain joint step, converged tight, in
 // fewer iterations (the similarities' scales and the poses enter the residual bilinearly).
 TEST(MotionBlockSolver, EmbeddedSimilarityIterationsReachTheSameOptimumSooner) {
-  RingSceneOptions ro;
-  ro.num_images = 18;
-  ro.num_points = 1500;
-  ro.noise_px = 0.5;
-  ro.seed = 11;
-  const Reconstruction rec = MakeRingScene(ro);
-  const std::map<uint32_t, Pose> initial = PerturbPoses(PosesOf(rec), 0.3, 0.01, 3);
-  WholeTrackMotionOptions mo;
-  mo.max_views = 6;
-  const std::vector<LocalMotion> motions = SelectWholeTrackMotions(rec, initial, mo);
-  const LocalHessianResult hessians = ComputeLocalHessians(rec, motions, WholeTrackLocalHessianOptions());
+  const RingMotions ring = MakeRingMotions();
   GlobalBAOptions embedded = WholeTrackGlobalBAOptions();
   embedded.function_tolerance = 1e-12;
   embedded.parameter_tolerance = 1e-14;
@@ -104,8 +114,8 @@ TEST(MotionBlockSolver, EmbeddedSimilarityIterationsReachTheSameOptimumSooner) {
   embedded.embedded_similarity_iterations = 1;
   GlobalBAOptions joint = embedded;
   joint.embedded_similarity_iterations = 0;
-  const GlobalBAResult a = PointlessGlobalBA(initial, motions, hessians.hessians, embedded);
-  const GlobalBAResult b = PointlessGlobalBA(initial, motions, hessians.hessians, joint);
+  const GlobalBAResult a = PointlessGlobalBA(ring.initial, ring.motions, ring.hessians.hessians, embedded);
+  const GlobalBAResult b = PointlessGlobalBA(ring.initial, ring.motions, ring.hessians.hessians, joint);
   std::printf("  iterations: embedded %d, joint %d; final cost %.9g vs %.9g\n", a.summary.iterations,
               b.summary.iterations, a.summary.final_cost, b.summary.final_cost);
   EXPECT_NEAR(a.summary.final_cost / b.summary.final_cost, 1.0, 1e-6);
