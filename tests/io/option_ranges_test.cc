@@ -89,6 +89,14 @@ TEST_F(OptionRangesConfig, ReportedCasesNameTheKeyAndTheRange) {
             path_.string() + ": point_based.bundle.max_iterations = 0 is out of range (>= 1)");
 }
 
+TEST_F(OptionRangesConfig, MethodNamesAreOneOfTheirChoices) {
+  EXPECT_EQ(ErrorOf(R"({"matching": {"verification": {"relative_pose": {"scoring": "samspon"}}}})"),
+            path_.string() + ": matching.verification.relative_pose.scoring = \"samspon\" is not one of: sampson, opengv");
+  EXPECT_EQ(ErrorOf(R"({"pairs": {"relative_pose": {"algorithm": "8point"}}})"),
+            path_.string() + ": pairs.relative_pose.algorithm = \"8point\" is not one of: stewenius, nister");
+  EXPECT_EQ(ErrorOf(R"({"pairs": {"relative_pose": {"scoring": "opengv", "algorithm": "nister"}}})"), "");
+}
+
 TEST_F(OptionRangesConfig, BoundsThemselvesAndDocumentedOffValuesAreAccepted) {
   EXPECT_EQ(ErrorOf(R"({"global_init": {"outliers": {"fraction": 1}}, "matching": {"tracks": {"min_track_length": 2}}})"), "");
   EXPECT_EQ(ErrorOf(R"({"global_ba": {"irls_factor": 0, "huber_factor": -1}, "local_hessian": {"attenuation_q": 0}})"),

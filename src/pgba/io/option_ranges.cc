@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <limits>
 #include <map>
+#include <string>
+#include <vector>
 
 #include "pgba/util/error.h"
 
@@ -222,6 +224,32 @@ std::string Number(double v) {
   return buf;
 }
 
+// String options that name a method, by dotted path: their valid values. Without this a typo
+// ("samspon") passed the config check and ended the run in the matcher with a bare
+// std::invalid_argument that named neither the file nor the key.
+const std::map<std::string, std::vector<std::string>>& ChoiceTable() {
+  static const std::map<std::string, std::vector<std::string>> table = [] {
+    std::map<std::string, std::vector<std::string>> t;
+    for (const std::string prefix : {"matching.verification.relative_pose", "pairs.relative_pose"}) {
+      t[prefix + ".scoring"] = {"sampson", "opengv"};     // RelativePoseOptions::scoring
+      t[prefix + ".algorithm"] = {"stewenius", "nister"};  // RelativePoseOptions::algorithm
+    }
+    return t;
+  }();
+  return table;
+}
+
+void CheckChoice(const nlohmann::json& value, const std::string& path, const std::string& origin) {
+  const auto it = ChoiceTable().find(path);
+  if (it == ChoiceTable().end()) return;
+  const std::string v = value.get<std::string>();
+  for (const std::string& c : it->second)
+    if (v == c) return;
+  std::string list;
+  for (const std::string& c : it->second) list += (list.empty() ? "" : ", ") + c;
+  ThrowInputError(origin, 0, path + " = " + value.dump() + " is not one of: " + list);
+}
+
 void CheckValue(const nlohmann::json& value, const std::string& path, const std::string& origin) {
   if (value.is_object()) {
     for (const auto& [key, child] : value.items()) CheckValue(child, path.empty() ? key : path + "." + key, origin);
@@ -231,6 +259,7 @@ void CheckValue(const nlohmann::json& value, const std::string& path, const std:
     for (const nlohmann::json& element : value) CheckValue(element, path + "[]", origin);
     return;
   }
+  if (value.is_string()) CheckChoice(value, path, origin);
   if (!value.is_number()) return;
   const std::optional<OptionRange> range = RangeOfOption(path);
   if (range && !range->Contains(value.get<double>())) {
