@@ -11,6 +11,7 @@
 #include "evaluation/ground_truth.h"
 #include "global_ba/global_ba.h"
 #include "local_hessian/whole_track_motions.h"
+#include "mapper/pose_refinement.h"
 #include "pgba/geometry/rotation.h"
 #include "pgba/optim/bundle_adjuster.h"
 #include "pgba/scene/triangulate_model.h"
@@ -104,18 +105,12 @@ inline LocalHessianResult TripletHessians(const Reconstruction& tracks, const st
 inline Poses WholeTrackPointlessBA(const Reconstruction& tracks, const Poses& initial, int relinearizations,
                                    int* num_params = nullptr) {
   const std::vector<LocalMotion> motions = SelectWholeTrackMotions(tracks, initial, WholeTrackMotionOptions{});
-  LocalHessianOptions lh;
-  lh.attenuation_q = 0.0;
-  lh.min_eigenvalue_ratio = 0.0;
-  lh.max_iterations = 0;
-  lh.factor = HessianFactor::kLdlt;
+  // The pipeline's own settings (mapper/pose_refinement.h): no attenuation, no eigenvalue
+  // floor, no local BA iteration (h taken at the start), LDL^T factor; one round without IRLS
+  // or Huber, checked re-linearisation on every pass.
+  const LocalHessianOptions lh = WholeTrackLocalHessianOptions();
   const LocalHessianResult hessians = ComputeLocalHessians(tracks, motions, lh);
-  GlobalBAOptions gba;
-  gba.irls_factor = 0.0;
-  gba.huber_factor = 0.0;
-  gba.max_rounds = 1;
-  gba.relinearize_misfit = 0.0;
-  gba.relinearize_checked = true;
+  GlobalBAOptions gba = WholeTrackGlobalBAOptions();
   gba.max_relinearizations = relinearizations;
   const GlobalBAResult r = RelinearizedGlobalBA(tracks, lh, initial, motions, hessians.hessians, gba);
   if (num_params) *num_params = r.summary.num_params;
