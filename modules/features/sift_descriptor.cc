@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "features/fast_atan2.h"
+#include "features/separable_gaussian.h"
 
 namespace pgba {
 namespace {
@@ -39,15 +40,7 @@ void ComputeSiftDescriptor(const SiftScaleSpace& ss, const SiftKeypoint& kp, flo
   // The Gaussian weight depends on the rotated offset's length only, which is the unrotated
   // one's: exp(-(i^2 + j^2) / (hist_width^2 d^2 / 2)) = g[i] g[j], one exp per offset
   // instead of one per sample.
-  float g_stack[256];
-  std::vector<float> g_heap;
-  float* g = g_stack;
-  if (radius + 1 > 256) {
-    g_heap.resize(radius + 1);
-    g = g_heap.data();
-  }
-  const float exp_per_px2 = exp_scale / (hist_width * hist_width);
-  for (int k = 0; k <= radius; ++k) g[k] = std::exp(static_cast<float>(k * k) * exp_per_px2);
+  const SeparableGaussian g(radius, exp_scale / (hist_width * hist_width));
 
   // (d+2) x (d+2) x (n+2): one cell of margin on each side and two wrap bins, so the
   // trilinear spread never needs a bounds test.

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "features/fast_atan2.h"
+#include "features/separable_gaussian.h"
 
 namespace pgba {
 namespace {
@@ -112,14 +113,7 @@ float OrientationHistogram(const cv::Mat& img, int x0, int y0, int radius, float
   const float exp_scale = -1.f / (2.f * sigma * sigma);
   // The Gaussian window is separable: exp(-(i^2 + j^2) / 2s^2) = g[i] g[j], one exp per
   // offset instead of one per sample (the exps were a third of the orientation time).
-  float g_stack[128];
-  std::vector<float> g_heap;
-  float* g = g_stack;
-  if (radius + 1 > 128) {
-    g_heap.resize(radius + 1);
-    g = g_heap.data();
-  }
-  for (int k = 0; k <= radius; ++k) g[k] = std::exp(static_cast<float>(k * k) * exp_scale);
+  const SeparableGaussian g(radius, exp_scale);
   for (int i = -radius; i <= radius; ++i) {
     const int y = y0 + i;
     if (y <= 0 || y >= img.rows - 1) continue;
