@@ -81,6 +81,7 @@ LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const L
   for (const uint32_t id : in.camera_ids) {
     in.cameras.push_back(tracks.cameras.at(id));
     in.free.push_back(free->at(id));
+    in.directions.push_back(IntrinsicDirections(in.cameras.back(), in.free.back()));
     in.offset.push_back(in.num_unknowns);
     in.num_unknowns += static_cast<int>(in.free.back().size());
   }
@@ -161,7 +162,7 @@ bool SolveLocalBundle(int max_iterations, LocalBundleProblem* p, bool fix_gauge)
     for (size_t c = 0; c < in.cameras.size(); ++c) {
       std::vector<double>& params = in.cameras[c].params;
       problem.AddParameterBlock(params.data(), static_cast<int>(params.size()),
-                                HeldIntrinsicsManifold(static_cast<int>(params.size()), in.free[c]));
+                                IntrinsicsManifold(in.cameras[c], in.free[c]));
     }
     for (const LocalObservation& o : p->observations) {
       std::unique_ptr<ceres::LossFunction>& l = losses[o.weight];

@@ -28,6 +28,9 @@ struct LocalIntrinsics {
   std::vector<uint32_t> camera_ids;      // ascending
   std::vector<Camera> cameras;           // their current values
   std::vector<std::vector<int>> free;    // indices into Camera::params
+  // IntrinsicDirections of each camera: fixed, since the adjustment moves its parameters
+  // along them (an aspect ratio it holds stays the one it started from).
+  std::vector<Eigen::MatrixXd> directions;
   std::vector<int> offset;               // row of each camera's first unknown within the K
   int num_unknowns = 0;                  // K
 };

@@ -39,11 +39,14 @@ void ObservationJacobian(const LocalBundleProblem& p, const LocalObservation& o,
   }
   const Camera& camera = p.intrinsics.cameras[c];
   const std::vector<int>& free = p.intrinsics.free[c];
+  const Eigen::MatrixXd& directions = p.intrinsics.directions[c];
   Jet17 pose[6], X[3], params[kMaxParams], res[2];
   for (int i = 0; i < 6; ++i) pose[i] = Jet17(b.x(i), i);
   for (int i = 0; i < 3; ++i) X[i] = Jet17(p.points[o.point](i), 6 + i);
-  for (size_t i = 0; i < camera.params.size(); ++i) params[i] = Jet17(camera.params[i]);
-  for (size_t j = 0; j < free.size(); ++j) params[free[j]].v(9 + j) = 1.0;
+  for (size_t i = 0; i < camera.params.size(); ++i) {
+    params[i] = Jet17(camera.params[i]);
+    params[i].v.segment(9, free.size()) = directions.row(static_cast<int>(i)).transpose();
+  }
   const ReprojectionErrorWithIntrinsics f(camera.model, b.R0, o.pixel, 1.0);
   f(pose, X, params, res);
   Jk->resize(2, static_cast<int>(free.size()));

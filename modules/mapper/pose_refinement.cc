@@ -132,12 +132,17 @@ nlohmann::json IntrinsicsRecord(uint32_t id, const Camera& camera, const std::ve
                                 const Eigen::VectorXd& initial, const Eigen::VectorXd& final_values,
                                 const Eigen::VectorXd& stddev) {
   nlohmann::json params = nlohmann::json::array();
-  for (size_t i = 0; i < free.size(); ++i)
+  const Eigen::MatrixXd directions = IntrinsicDirections(camera, free);
+  for (size_t i = 0; i < free.size(); ++i) {
+    // An unknown that moves more than its own parameter is the focal with fy / fx held.
+    std::string name = IntrinsicParamName(camera.model, free[i]);
+    if ((directions.col(static_cast<int>(i)).array() != 0.0).count() > 1) name += " (fy / fx held)";
     params.push_back({{"index", free[i]},
-                      {"name", IntrinsicParamName(camera.model, free[i])},
+                      {"name", name},
                       {"initial", initial(i)},
                       {"final", final_values(i)},
                       {"stddev", stddev.size() > static_cast<int>(i) ? NumberOrNull(stddev(i)) : nlohmann::json()}});
+  }
   return {{"camera_id", id}, {"model", CameraModelName(camera.model)}, {"params", params},
           {"final_params", camera.params}};
 }

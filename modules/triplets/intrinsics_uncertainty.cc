@@ -12,7 +12,7 @@
 
 namespace pgba {
 
-double CornerPixelSensitivity(const Camera& camera, int index) {
+double CornerPixelSensitivity(const Camera& camera, const Eigen::VectorXd& direction) {
   double best = 0.0;
   for (const Eigen::Vector2d& corner :
        {Eigen::Vector2d(0, 0), Eigen::Vector2d(camera.width, 0), Eigen::Vector2d(0, camera.height),
@@ -20,10 +20,15 @@ double CornerPixelSensitivity(const Camera& camera, int index) {
     const Eigen::Vector3d ray = camera.PixelToBearing(corner);
     // Central difference over the parameter (projections are smooth in every parameter);
     // the step is relative to the parameter's size, absolute for coefficients near 0.
-    const double h = 1e-6 * std::max(1.0, std::abs(camera.params[index]));
+    double size = 1.0;  // of the parameters the unknown moves
+    for (int i = 0; i < direction.size(); ++i)
+      if (direction(i) != 0.0) size = std::max(size, std::abs(camera.params[i]));
+    const double h = 1e-6 * size;
     std::vector<double> plus = camera.params, minus = camera.params;
-    plus[index] += h;
-    minus[index] -= h;
+    for (int i = 0; i < direction.size(); ++i) {
+      plus[i] += h * direction(i);
+      minus[i] -= h * direction(i);
+    }
     double p[2], m[2];
     ProjectToPixel(camera.model, plus.data(), ray.data(), p);
     ProjectToPixel(camera.model, minus.data(), ray.data(), m);
@@ -78,7 +83,7 @@ IntrinsicsUncertainty EstimateIntrinsicsUncertainty(const Reconstruction& rec, c
       J.middleCols<6>(pc->second) = Jc;
       if (const auto cc = camera_col.find(image.camera_id); cc != camera_col.end()) {
         const std::vector<int>& indices = free.at(image.camera_id);
-        for (size_t i = 0; i < indices.size(); ++i) J.col(cc->second + static_cast<int>(i)) = Jk.col(indices[i]);
+        J.middleCols(cc->second, static_cast<int>(indices.size())) = Jk * IntrinsicDirections(camera, indices);
       }
       Hcc.noalias() += J.transpose() * J;
       Hcp.noalias() += J.transpose() * Jp;
@@ -136,11 +141,12 @@ IntrinsicsUncertainty EstimateIntrinsicsUncertainty(const Reconstruction& rec, c
   int k = first_intrinsic;
   for (const auto& [camera_id, c0] : camera_col) {
     const Camera& camera = rec.cameras.at(camera_id);
-    for (int index : free.at(camera_id)) {
+    const Eigen::MatrixXd directions = IntrinsicDirections(camera, free.at(camera_id));
+    for (int j = 0; j < directions.cols(); ++j) {
       const double var = cov(k, k);
       const double sd = var > 0.0 ? std::sqrt(var) : std::numeric_limits<double>::infinity();
       out.stddev.push_back(sd);
-      out.stddev_px.push_back(sd * CornerPixelSensitivity(camera, index));
+      out.stddev_px.push_back(sd * CornerPixelSensitivity(camera, directions.col(j)));
       out.max_stddev_px = std::max(out.max_stddev_px, out.stddev_px.back());
       double& camera_max = out.camera_max_stddev_px[camera_id];
       camera_max = std::max(camera_max, out.stddev_px.back());

@@ -39,8 +39,9 @@ IntrinsicsUncertainty EstimateIntrinsicsUncertainty(const Reconstruction& rec, c
                                                     const FreeIntrinsics& free, uint32_t gauge_anchor,
                                                     uint32_t gauge_scale);
 
-// |d pixel / d params[index]| at the image corner farthest from the principal point, the
-// corner's ray held (what a unit error of that parameter moves the image by, at most).
-double CornerPixelSensitivity(const Camera& camera, int index);
+// |d pixel / d unknown| at the image corner farthest from the principal point, the corner's
+// ray held (what a unit error of that unknown moves the image by, at most), the unknown
+// moving the parameters along `direction` (a column of IntrinsicDirections).
+double CornerPixelSensitivity(const Camera& camera, const Eigen::VectorXd& direction);
 
 }  // namespace pgba

@@ -89,7 +89,7 @@ TEST(IntrinsicsUncertainty, PredictsTheScatterOfTheTripletBAsFocalAndK) {
   EXPECT_NEAR(ratio_k, 1.0, 0.28);
   // stddev_px: the same sd times the corner's sensitivity (f: normalised radius of the corner).
   const Camera& cam = truth.cameras.at(1);
-  EXPECT_NEAR(u.stddev_px[0], u.stddev[0] * CornerPixelSensitivity(cam, 0), 1e-9 * u.stddev_px[0]);
+  EXPECT_NEAR(u.stddev_px[0], u.stddev[0] * CornerPixelSensitivity(cam, Eigen::VectorXd::Unit(cam.params.size(), 0)), 1e-9 * u.stddev_px[0]);
   EXPECT_DOUBLE_EQ(u.max_stddev_px, std::max(u.stddev_px[0], u.stddev_px[1]));
 }
 
@@ -100,8 +100,8 @@ TEST(IntrinsicsUncertainty, CornerSensitivityOfTheFocalIsTheCornersNormalisedRad
   cam.height = 600;
   cam.params = {1200.0, 400.0, 300.0};
   // Farthest corner (1000, 600) or (1000, 0): 600 px, 300 px from the principal point.
-  EXPECT_NEAR(CornerPixelSensitivity(cam, 0), std::hypot(600.0, 300.0) / 1200.0, 1e-7);
-  EXPECT_NEAR(CornerPixelSensitivity(cam, 1), 1.0, 1e-7);  // the principal point moves every pixel
+  EXPECT_NEAR(CornerPixelSensitivity(cam, Eigen::VectorXd::Unit(cam.params.size(), 0)), std::hypot(600.0, 300.0) / 1200.0, 1e-7);
+  EXPECT_NEAR(CornerPixelSensitivity(cam, Eigen::VectorXd::Unit(cam.params.size(), 1)), 1.0, 1e-7);  // the principal point moves every pixel
 }
 
 // The triplet BA's decision (TripletOptions::intrinsics_max_sd_px): the wide triplet above

@@ -173,7 +173,7 @@ BundleAdjustmentSummary BundleAdjust(const BundleAdjustmentProblem& problem, con
   for (auto& [id, params] : intrinsics) {
     if (!ceres_problem.HasParameterBlock(params.data())) continue;  // no participating image
     const std::vector<int>& free = problem.free_intrinsics.at(id);
-    if (ceres::Manifold* m = HeldIntrinsicsManifold(static_cast<int>(params.size()), free))
+    if (ceres::Manifold* m = IntrinsicsManifold(rec->cameras.at(id), free))
       ceres_problem.SetManifold(params.data(), m);
     summary.num_free_intrinsics += static_cast<int>(free.size());
   }

@@ -39,6 +39,13 @@ struct IntrinsicsOptions {
   bool refine_focal_length = true;
   bool refine_principal_point = false;
   bool refine_extra_params = true;
+  // A model with two focals (PINHOLE, OPENCV) estimates one focal unknown with fy / fx held at
+  // the prior's ratio unless this is set (then fx and fy apart, as COLMAP does). Pixels are
+  // square on every camera pgba has met, and on a ring or a narrow block one of the two is
+  // not observable on its own: temple_sparse_ring with a 10% PINHOLE prior, fx and fy apart,
+  // left fx at a standard deviation of 4-16% and 1-6% off while fy came within 0.6% (README,
+  // issue 14).
+  bool refine_aspect_ratio = false;
   // A camera without any calibration (no file, no EXIF: its focal is the 1.2 max(w, h) guess,
   // Camera::has_prior_focal_length false) also estimates its principal point, unlike COLMAP:
   // real lenses put it 15-17 px (0.3-0.5 deg) off the image centre, which no focal or
@@ -49,13 +56,16 @@ struct IntrinsicsOptions {
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(IntrinsicsOptions, cameras, refine_focal_length,
                                                 refine_principal_point, refine_extra_params,
+                                                refine_aspect_ratio,
                                                 refine_principal_point_without_calibration)
 
 // Whether the cameras get unknowns: options.cameras resolved for a calibration that is a
 // prior (true) or given (false).
 bool RefinesIntrinsics(const IntrinsicsOptions& options, bool calibration_is_prior);
 
-// Indices into Camera::params estimated for this model under the switches, ascending.
+// Indices into Camera::params estimated for this model under the switches, ascending. With
+// the aspect ratio held, a two-focal model lists fx alone: its unknown moves fy with it
+// (IntrinsicDirections).
 std::vector<int> FreeIntrinsicIndices(CameraModel model, const IntrinsicsOptions& options);
 
 // COLMAP's name of parameter `index` of the model ("f", "cx", "k", "fx", "k1", "p2", ...).
@@ -67,13 +77,22 @@ const char* IntrinsicParamName(CameraModel model, int index);
 using FreeIntrinsics = std::map<uint32_t, std::vector<int>>;
 FreeIntrinsics SelectFreeIntrinsics(const std::map<uint32_t, Camera>& cameras, const IntrinsicsOptions& options);
 
-// The free parameters of `camera` (values at `free`'s indices) and back.
+// How the unknowns move the camera's parameters: column j is the change of Camera::params per
+// unit of unknown j, the unit vector of free[j], except for the focal of a two-focal model
+// whose fy is not free (the aspect ratio held): then fx's unknown moves fy by fy / fx of the
+// camera as given, so the ratio stays the prior's. Every Jacobian with respect to the
+// intrinsics is the parameters' Jacobian times this matrix.
+Eigen::MatrixXd IntrinsicDirections(const Camera& camera, const std::vector<int>& free);
+
+// The unknowns' values of `camera` (its parameters at `free`'s indices) and back: Scatter
+// moves the parameters along IntrinsicDirections by the change of the unknowns.
 Eigen::VectorXd GatherIntrinsics(const Camera& camera, const std::vector<int>& free);
 void ScatterIntrinsics(const Eigen::VectorXd& values, const std::vector<int>& free, Camera* camera);
 
-// The Ceres manifold of a full parameter block that holds all but `free` (nullptr when all
-// are free); the caller sets the block constant when `free` is empty.
-ceres::Manifold* HeldIntrinsicsManifold(int num_params, const std::vector<int>& free);
+// The Ceres manifold of the camera's full parameter block on which only the unknowns move,
+// along IntrinsicDirections (nullptr when every parameter is its own unknown); the caller
+// sets the block constant when `free` is empty.
+ceres::Manifold* IntrinsicsManifold(const Camera& camera, const std::vector<int>& free);
 
 // Pixel reprojection residual with the camera parameters as a block: (pose[6], point[3],
 // params[n]), n = CameraModelNumParams(model). The same projection as ReprojectionError.
