@@ -1,9 +1,10 @@
 #include "modules/global_ba/motion_normal_equations.h"
 
+#include "modules/global_ba/pose_system.h"
+
 #include <tbb/parallel_for.h>
 
 #include <Eigen/Cholesky>
-#include <Eigen/CholmodSupport>
 
 #include <algorithm>
 #include <array>
@@ -26,8 +27,6 @@ constexpr double kMaxDiagonal = 1e32;
 // Ceres' min_relative_decrease: a step is taken when the cost falls by this share of the
 // model's prediction.
 constexpr double kMinRelativeDecrease = 1e-3;
-// Pose systems up to this many unknowns are factorised densely (250 images).
-constexpr int kMaxDenseUnknowns = 1500;
 
 std::vector<const double*> PosePointers(const MotionBlockProblem& p, const MotionBlockTerm& t) {
   std::vector<const double*> out;
@@ -160,147 +159,6 @@ void OptimizeSimilarity(const MotionBlockProblem& p, const MotionBlockTerm& t, c
 
 Vector7d Clamped(const Vector7d& d) { return d.cwiseMax(kMinDiagonal).cwiseMin(kMaxDiagonal); }
 
-// The sparse pose system: free variables (the gauge's are left out), one 6 x 6 block per pair
-// of poses that share a motion, lower triangle, with the value index of every block entry;
-// then the intrinsic unknowns (after every pose variable), a dense border of a few rows.
-class PoseSystem {
- public:
-  explicit PoseSystem(const MotionBlockProblem& p) {
-    const int m = static_cast<int>(p.poses.size());
-    var_.assign(6 * m, -1);
-    int n = 0;
-    for (int i = 0; i < m; ++i)
-      for (int c = 0; c < 6; ++c) {
-        const bool fixed = i == p.fixed_pose || (i == p.scale_pose && c == p.scale_coord);
-        if (!fixed) var_[6 * i + c] = n++;
-      }
-    num_pose_vars_ = n;
-    for (const Eigen::VectorXd* k : p.intrinsics) {
-      intrinsic_var_.push_back(n);
-      n += static_cast<int>(k->size());
-    }
-    num_free_ = n;
-    num_intrinsic_vars_ = num_free_ - num_pose_vars_;
-    border_.setZero(num_intrinsic_vars_, num_pose_vars_);
-    corner_.setZero(num_intrinsic_vars_, num_intrinsic_vars_);
-    std::vector<std::pair<int, int>> pairs;
-    for (int i = 0; i < m; ++i) pairs.emplace_back(i, i);
-    for (const MotionBlockTerm& t : p.terms)
-      for (const int a : t.poses)
-        for (const int b : t.poses)
-          if (a > b) pairs.emplace_back(a, b);
-    std::sort(pairs.begin(), pairs.end());
-    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-    pairs_ = pairs;
-    blocks_.assign(pairs_.size(), Matrix6d::Zero());
-    if (dense()) return;  // the sparse structure serves only the sparse factorisation
-    std::vector<Eigen::Triplet<double>> entries;
-    for (const auto& [a, b] : pairs_)
-      for (int r = 0; r < 6; ++r)
-        for (int c = 0; c < 6; ++c) {
-          const int vr = var_[6 * a + r], vc = var_[6 * b + c];
-          if (vr >= 0 && vc >= 0 && vr >= vc) entries.emplace_back(vr, vc, 1.0);
-        }
-    for (int r = num_pose_vars_; r < num_free_; ++r)
-      for (int c = 0; c <= r; ++c) entries.emplace_back(r, c, 1.0);  // border and corner: dense
-    matrix_.resize(num_free_, num_free_);
-    matrix_.setFromTriplets(entries.begin(), entries.end());
-    matrix_.makeCompressed();
-    value_index_.resize(pairs_.size());
-    for (size_t k = 0; k < pairs_.size(); ++k) {
-      const auto [a, b] = pairs_[k];
-      for (int r = 0; r < 6; ++r)
-        for (int c = 0; c < 6; ++c) {
-          const int vr = var_[6 * a + r], vc = var_[6 * b + c];
-          value_index_[k][6 * r + c] = vr >= 0 && vc >= 0 && vr >= vc ? Index(vr, vc) : -1;
-        }
-    }
-    solver_.analyzePattern(matrix_);
-  }
-
-  int num_free() const { return num_free_; }
-  int num_pose_vars() const { return num_pose_vars_; }
-  int var(int pose, int coord) const { return var_[6 * pose + coord]; }
-  // Variable of parameter i of intrinsic block b.
-  int intrinsic_var(int block, int i) const { return intrinsic_var_[block] + i; }
-  // Block id of the pair (a, b), a >= b.
-  int Block(int a, int b) const {
-    return static_cast<int>(std::lower_bound(pairs_.begin(), pairs_.end(), std::make_pair(a, b)) - pairs_.begin());
-  }
-  void Zero() {
-    for (Matrix6d& b : blocks_) b.setZero();
-    border_.setZero();
-    corner_.setZero();
-  }
-  Matrix6d& block(int id) { return blocks_[id]; }
-  // Intrinsic variable row, pose variable column (both as returned by var / intrinsic_var).
-  double& border(int intrinsic_var, int pose_var) { return border_(intrinsic_var - num_pose_vars_, pose_var); }
-  // Lower triangle used (row >= col).
-  double& corner(int row_var, int col_var) { return corner_(row_var - num_pose_vars_, col_var - num_pose_vars_); }
-
-  // Factorises the assembled blocks plus `diagonal` (per free variable); false on failure.
-  // Small systems are factorised densely (blocked Cholesky: the pose system of a block of a
-  // few hundred images is nearly dense, where the simplicial sparse factorisation is ~10x
-  // slower), large ones sparsely.
-  bool Factorize(const Eigen::VectorXd& diagonal) {
-    const int P = num_pose_vars_;
-    if (dense()) {
-      dense_.setZero(num_free_, num_free_);
-      for (size_t k = 0; k < pairs_.size(); ++k) {
-        const auto [a, b] = pairs_[k];
-        for (int r = 0; r < 6; ++r)
-          for (int c = 0; c < 6; ++c) {
-            const int vr = var_[6 * a + r], vc = var_[6 * b + c];
-            if (vr >= 0 && vc >= 0 && vr >= vc) dense_(vr, vc) += blocks_[k](r, c);
-          }
-      }
-      dense_.bottomLeftCorner(num_intrinsic_vars_, P) = border_;
-      dense_.bottomRightCorner(num_intrinsic_vars_, num_intrinsic_vars_) = corner_;
-      dense_.diagonal() += diagonal;
-      dense_llt_.compute(dense_);
-      return dense_llt_.info() == Eigen::Success;
-    }
-    double* values = matrix_.valuePtr();
-    std::fill(values, values + matrix_.nonZeros(), 0.0);
-    for (size_t k = 0; k < pairs_.size(); ++k)
-      for (int e = 0; e < 36; ++e)
-        if (value_index_[k][e] >= 0) values[value_index_[k][e]] += blocks_[k](e / 6, e % 6);
-    for (int r = P; r < num_free_; ++r) {
-      for (int c = 0; c < P; ++c) values[Index(r, c)] += border_(r - P, c);
-      for (int c = P; c <= r; ++c) values[Index(r, c)] += corner_(r - P, c - P);
-    }
-    for (int i = 0; i < num_free_; ++i) matrix_.coeffRef(i, i) += diagonal(i);
-    solver_.factorize(matrix_);
-    return solver_.info() == Eigen::Success;
-  }
-  Eigen::VectorXd Solve(const Eigen::VectorXd& b) const {
-    if (dense()) return dense_llt_.solve(b);
-    return solver_.solve(b);
-  }
-  bool dense() const { return num_free_ <= kMaxDenseUnknowns; }
-
- private:
-  int Index(int row, int col) const {
-    const int* inner = matrix_.innerIndexPtr();
-    const int begin = matrix_.outerIndexPtr()[col], end = matrix_.outerIndexPtr()[col + 1];
-    return static_cast<int>(std::lower_bound(inner + begin, inner + end, row) - inner);
-  }
-
-  std::vector<int> var_;
-  std::vector<int> intrinsic_var_;
-  int num_free_ = 0, num_pose_vars_ = 0, num_intrinsic_vars_ = 0;
-  std::vector<std::pair<int, int>> pairs_;
-  std::vector<std::array<int, 36>> value_index_;
-  std::vector<Matrix6d> blocks_;
-  Eigen::MatrixXd border_, corner_;
-  Eigen::SparseMatrix<double> matrix_;
-  Eigen::MatrixXd dense_;  // lower triangle used
-  Eigen::LLT<Eigen::MatrixXd> dense_llt_;
-  // Supernodal (CHOLMOD, as Ceres' SPARSE_SCHUR uses): the pose system of a 2,000-image
-  // block (12,000 unknowns, a 6 x 6 block per pair of images sharing a motion of ~15 views)
-  // fills in heavily, where Eigen's simplicial LDL^T took ~4 s per factorisation.
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver_;
-};
 
 }  // namespace
 
@@ -329,7 +187,7 @@ struct TermIndex {
 // blocks, the right-hand side -g + H_x,sim H_sim^-1 g_sim, and each term's H_sim^-1.
 void AssembleReduced(const MotionBlockProblem& p, const std::vector<TermSystem>& sys,
                      const std::vector<TermIndex>& index, const Eigen::VectorXd& gradient, double radius,
-                     PoseSystem* system, Eigen::VectorXd* rhs, std::vector<Matrix7d>* Hss_inv) {
+                     internal::PoseSystem* system, Eigen::VectorXd* rhs, std::vector<Matrix7d>* Hss_inv) {
   system->Zero();
   *rhs = -gradient;
   Hss_inv->resize(p.terms.size());
@@ -377,7 +235,7 @@ void AssembleReduced(const MotionBlockProblem& p, const std::vector<TermSystem>&
 MotionBlockSummary SolveMotionBlocks(const MotionBlockProblem& p, const MotionBlockSolverOptions& options,
                                      const MotionBlockCallback& callback) {
   MotionBlockSummary summary;
-  PoseSystem system(p);
+  internal::PoseSystem system(p);
   std::vector<const Eigen::MatrixXd*> h(p.terms.size());
   std::vector<TermIndex> index(p.terms.size());
   for (size_t ti = 0; ti < p.terms.size(); ++ti) {
