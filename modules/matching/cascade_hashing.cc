@@ -60,14 +60,13 @@ void ProjectionSigns(const cv::Mat& descriptors, const std::vector<int16_t>& mea
 
 // Moves the `k` smallest keys (Hamming distance << 32 | index) of `candidates` to its front
 // and returns how many there are (k, or fewer candidates): the same set std::nth_element
-// selects, but by a histogram of the distances (0-128), since a general selection over the
-// ~200 candidates of each query was a third of all matching time (perf, fountain_p11).
-// Keys at the cut-off distance are taken by increasing index, as the key order does.
-size_t SelectSmallest(size_t k, std::vector<uint64_t>* candidates, std::vector<uint64_t>* ties) {
+// selects, but by `hist`, the histogram of their distances (0-128, counted as they were
+// collected), since a general selection over the ~200 candidates of each query was a third
+// of all matching time (perf, fountain_p11). Keys at the cut-off distance are taken by
+// increasing index, as the key order does.
+size_t SelectSmallest(size_t k, const uint16_t* hist, std::vector<uint64_t>* candidates, std::vector<uint64_t>* ties) {
   std::vector<uint64_t>& c = *candidates;
   if (c.size() <= k) return c.size();
-  uint16_t hist[kCodeBits + 1] = {};
-  for (uint64_t key : c) ++hist[key >> 32];
   size_t below = 0;  // keys with a distance under the cut-off
   uint64_t cut = 0;
   while (below + hist[cut] < k) below += hist[cut++];
@@ -155,9 +154,10 @@ HashedDescriptors::HashedDescriptors(const cv::Mat& descriptors_u8, const Cascad
       bucket_of_[static_cast<size_t>(i) * num_tables_ + t] = static_cast<uint16_t>(key);
     }
   }
-  // Bucket lists in CSR form, members in increasing index order.
+  // Bucket lists in CSR form, members in increasing index order, each with its long code.
   bucket_start_.assign(static_cast<size_t>(num_tables_) * (num_buckets_ + 1), 0);
   bucket_members_.assign(static_cast<size_t>(num_tables_) * n, 0);
+  bucket_codes_.assign(2 * static_cast<size_t>(num_tables_) * n, 0);
   for (int t = 0; t < num_tables_; ++t) {
     int* start = &bucket_start_[static_cast<size_t>(t) * (num_buckets_ + 1)];
     const int mask = num_buckets_ - 1;
@@ -166,6 +166,11 @@ HashedDescriptors::HashedDescriptors(const cv::Mat& descriptors_u8, const Cascad
     std::vector<int> fill(start, start + num_buckets_);
     int* members = &bucket_members_[static_cast<size_t>(t) * n];
     for (int i = 0; i < n; ++i) members[fill[bucket_of_[static_cast<size_t>(i) * num_tables_ + t] & mask]++] = i;
+    uint64_t* member_codes = &bucket_codes_[2 * static_cast<size_t>(t) * n];
+    for (int m = 0; m < n; ++m) {
+      member_codes[2 * m] = codes_[2 * static_cast<size_t>(members[m])];
+      member_codes[2 * m + 1] = codes_[2 * static_cast<size_t>(members[m]) + 1];
+    }
   }
 }
 
@@ -181,29 +186,45 @@ void HashedDescriptors::SearchBestTwo(const HashedDescriptors& queries, const st
   best_dist->assign(num_queries, kInf);
   second_dist->assign(num_queries, kInf);
   const int n = size();
-  // seen[j] == q + 1 once candidate j was collected for query q (no clearing per query).
-  std::vector<int> seen(n, 0);
+  // Bit j set once candidate j was collected for the current query: n bits (1 KiB at 8192
+  // features) stay in L1, where an int per descriptor (32 KiB) missed it on every lookup.
+  // Cleared after each query through its candidates (the words they set), not as a whole.
+  std::vector<uint64_t> seen((static_cast<size_t>(n) + 63) / 64, 0);
   // Candidates as (Hamming distance << 32 | index): sorting them ranks by distance, ties by index.
   std::vector<uint64_t> candidates;
   candidates.reserve(static_cast<size_t>(num_tables_) * 64);
   std::vector<uint64_t> ties;
+  uint16_t hist[kCodeBits + 1];
   for (int q = 0; q < num_queries; ++q) {
     const int i = rows ? (*rows)[q] : q;
     const uint64_t* code = &queries.codes_[2 * static_cast<size_t>(i)];
     candidates.clear();
+    std::fill(hist, hist + kCodeBits + 1, 0);
     for (int t = 0; t < num_tables_; ++t) {
       const int key = queries.bucket_of_[static_cast<size_t>(i) * num_tables_ + t] & mask;
       const int* start = &bucket_start_[static_cast<size_t>(t) * (num_buckets_ + 1)];
       const int* members = &bucket_members_[static_cast<size_t>(t) * n];
+      const uint64_t* member_codes = &bucket_codes_[2 * static_cast<size_t>(t) * n];
       for (int m = start[key]; m < start[key + 1]; ++m) {
         const int j = members[m];
-        if (seen[j] == q + 1) continue;
-        seen[j] = q + 1;
-        candidates.push_back(uint64_t(HammingDistance(code, &codes_[2 * static_cast<size_t>(j)])) << 32 |
-                             uint32_t(j));
+        uint64_t& word = seen[j >> 6];
+        const uint64_t bit = uint64_t(1) << (j & 63);
+        if (word & bit) continue;
+        word |= bit;
+        const int d = HammingDistance(code, &member_codes[2 * static_cast<size_t>(m)]);
+        ++hist[d];
+        candidates.push_back(uint64_t(d) << 32 | uint32_t(j));
       }
     }
-    const size_t k = SelectSmallest(num_reranked_, &candidates, &ties);
+    for (uint64_t key : candidates) seen[(key & 0xffffffffu) >> 6] = 0;
+    const size_t k = SelectSmallest(num_reranked_, hist, &candidates, &ties);
+    // The reranked rows are scattered over the image's descriptors (1 MiB at 8192): their
+    // loads are issued together before the distances need them.
+    for (size_t c = 0; c < k; ++c) {
+      const uint8_t* row = descriptors_.ptr<uint8_t>(static_cast<int>(candidates[c] & 0xffffffffu));
+      __builtin_prefetch(row);
+      __builtin_prefetch(row + 64);
+    }
     int d1 = std::numeric_limits<int>::max(), d2 = d1, j1 = -1;
     const uint8_t* qd = queries.descriptors_.ptr<uint8_t>(i);
     for (size_t c = 0; c < k; ++c) {

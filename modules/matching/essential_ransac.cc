@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "matching/relative_pose.h"
+#include "matching/relative_pose_method.h"
 
 namespace pgba {
 namespace {
@@ -138,9 +139,7 @@ int RequiredIterations(double inlier_ratio, double confidence, int max_iteration
 
 EssentialRansacResult EssentialRansac(const std::vector<Eigen::Vector3d>& b1, const std::vector<Eigen::Vector3d>& b2,
                                       const EssentialRansacOptions& options) {
-  const bool nister = options.algorithm == "nister";
-  if (!nister && options.algorithm != "stewenius")
-    throw std::invalid_argument("unknown relative pose algorithm '" + options.algorithm + "' (stewenius, nister)");
+  const bool nister = ParsePoseSolver(options.algorithm) == PoseSolver::kNister;
   EssentialRansacResult result;
   const size_t n = b1.size();
   if (n < 5 || b2.size() != n) return result;

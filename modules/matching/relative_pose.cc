@@ -19,6 +19,7 @@
 
 #include "modules/matching/essential_ransac.h"
 #include "modules/matching/opengv_rng.h"
+#include "modules/matching/relative_pose_method.h"
 #include "pgba/geometry/rotation.h"
 
 namespace pgba {
@@ -63,15 +64,13 @@ struct SampsonResidual {
 };
 
 SacProblem::Algorithm ParseAlgorithm(const std::string& name) {
-  if (name == "stewenius") return SacProblem::STEWENIUS;
-  if (name == "nister") return SacProblem::NISTER;
-  throw std::invalid_argument("unknown relative pose algorithm '" + name + "' (stewenius, nister)");
+  return ParsePoseSolver(name) == PoseSolver::kNister ? SacProblem::NISTER : SacProblem::STEWENIUS;
 }
 
 // OpenGV's RANSAC with its sampling driven by our seeded engine (opengv_rng.h).
 bool RunRansac(const std::vector<Eigen::Vector3d>& b1, const std::vector<Eigen::Vector3d>& b2, double threshold_angle,
                const RelativePoseOptions& options, Eigen::Matrix3d* R_21, Eigen::Vector3d* t_21, int* iterations) {
-  if (options.scoring == "sampson") {
+  if (ParsePoseScoring(options.scoring) == PoseScoring::kSampson) {
     EssentialRansacOptions o;
     o.threshold_angle = threshold_angle;
     o.algorithm = options.algorithm;
@@ -85,8 +84,6 @@ bool RunRansac(const std::vector<Eigen::Vector3d>& b1, const std::vector<Eigen::
     *t_21 = r.t_21.normalized();
     return true;
   }
-  if (options.scoring != "opengv")
-    throw std::invalid_argument("unknown relative pose scoring '" + options.scoring + "' (sampson, opengv)");
   opengv::bearingVectors_t f1(b1.begin(), b1.end()), f2(b2.begin(), b2.end());
   opengv::relative_pose::CentralRelativeAdapter adapter(f1, f2);
   auto problem = std::make_shared<SacProblem>(adapter, ParseAlgorithm(options.algorithm), /*randomSeed=*/false);

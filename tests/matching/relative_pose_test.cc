@@ -5,6 +5,7 @@
 #include <cmath>
 #include <random>
 
+#include "modules/matching/relative_pose_method.h"
 #include "pgba/geometry/rotation.h"
 #include "pgba/scene/camera.h"
 
@@ -189,6 +190,39 @@ TEST(RelativePose, FailsCleanlyOnTooFewOrBadInput) {
   bad.algorithm = "sevenpoint";
   const PairData ok = MakePair(3, 0.5, 0.0, 50);
   EXPECT_THROW(EstimateRelativePose(ok.b1, ok.b2, kFocal, bad), std::invalid_argument);
+}
+
+// Every name of the method tables (the config check's choices) is accepted by the estimator
+// with either scoring, and a name outside them is refused by both scorings' parsers with the
+// table's own list (relative_pose_method.h).
+TEST(RelativePose, EveryMethodNameIsAcceptedAndOthersAreRefusedWithTheList) {
+  const PairData d = MakePair(5, 0.5, 0.1, 100);
+  for (const auto& [scoring, scoring_name] : kPoseScoringNames)
+    for (const auto& [solver, solver_name] : kPoseSolverNames) {
+      RelativePoseOptions o;
+      o.scoring = std::string(scoring_name);
+      o.algorithm = std::string(solver_name);
+      EXPECT_EQ(ParsePoseScoring(o.scoring), scoring);
+      EXPECT_EQ(ParsePoseSolver(o.algorithm), solver);
+      const RelativePoseResult r = EstimateRelativePose(d.b1, d.b2, kFocal, o);
+      EXPECT_TRUE(r.success) << o.scoring << " " << o.algorithm;
+      EXPECT_LT(AngleDeg(r.t_21, d.t_21), 2.0) << o.scoring << " " << o.algorithm;
+    }
+  EXPECT_EQ(MethodNames(kPoseScoringNames), (std::vector<std::string>{"sampson", "opengv"}));
+  for (const char* scoring : {"sampson", "opengv"}) {
+    RelativePoseOptions o;
+    o.scoring = scoring;
+    o.algorithm = "8point";
+    try {
+      EstimateRelativePose(d.b1, d.b2, kFocal, o);
+      ADD_FAILURE() << "no exception for algorithm 8point with " << scoring;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_EQ(std::string(e.what()), "unknown relative pose algorithm '8point' (stewenius, nister)");
+    }
+  }
+  RelativePoseOptions o;
+  o.scoring = "samspon";
+  EXPECT_THROW(EstimateRelativePose(d.b1, d.b2, kFocal, o), std::invalid_argument);
 }
 
 TEST(RelativePose, SampsonAngleApproximatesTwoViewReprojectionError) {

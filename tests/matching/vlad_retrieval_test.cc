@@ -66,6 +66,13 @@ double Recall(const std::vector<Pair>& truth, const std::set<Pair>& found) {
   return truth.empty() ? 1.0 : double(hit) / truth.size();
 }
 
+// Judged over five vocabularies (k-means seeds 0-4), not one: which pairs are chosen moves
+// with the vocabulary. Measured on this block (10 seeds each), disjoint pairs at k 10:
+// 15-22 with OpenCV's SIFT (its seed 5 at the bar of one tenth), 14-23 with pgba's (seeds
+// 0 and 5 above it); means 18.9 and 19.8. Recall at k 5: 0.968-1.0 and 0.952-0.984, means
+// 0.981 and 0.974. One seed's count was a draw from that spread, not a property of the
+// retrieval; the mean of five has a fifth of the variance (sd ~1.1 pairs instead of ~2.4),
+// and the bars are the ones the single seed had.
 TEST(VladRetrieval, FindsTheTrulyOverlappingPairsOfAnAerialBlockWithinNTimesK) {
   const BlockFeatures& f = SmallBlock();
   const size_t n = f.descriptors.size();
@@ -75,33 +82,40 @@ TEST(VladRetrieval, FindsTheTrulyOverlappingPairsOfAnAerialBlockWithinNTimesK) {
   const std::vector<Pair> strong = OverlappingPairs(f.block, 0.5);  // neighbours along a strip, across strips
   const std::vector<Pair> any = OverlappingPairs(f.block, 0.01);
   const std::set<Pair> any_set(any.begin(), any.end());
+  constexpr int kSeeds = 5;
   for (int k : {5, 10}) {
-    VladOptions o = TestVlad();
-    o.neighbors = k;
-    const std::vector<Pair> pairs = RetrievalPairs(f.descriptors, o);
-    // Bounded: each image adds at most k pairs (fewer where two images chose each other).
-    EXPECT_LE(pairs.size(), n * k);
-    EXPECT_GE(pairs.size(), n * k / 2);
-    EXPECT_TRUE(std::is_sorted(pairs.begin(), pairs.end()));
-    std::vector<int> degree(n, 0);
-    for (const auto& [i, j] : pairs) {
-      ASSERT_LT(i, j);
-      ASSERT_LT(j, n);
-      ++degree[i], ++degree[j];
+    double recall_sum = 0, disjoint_fraction_sum = 0;
+    for (int seed = 0; seed < kSeeds; ++seed) {
+      VladOptions o = TestVlad();
+      o.neighbors = k;
+      o.seed = seed;
+      const std::vector<Pair> pairs = RetrievalPairs(f.descriptors, o);
+      // Bounded: each image adds at most k pairs (fewer where two images chose each other).
+      EXPECT_LE(pairs.size(), n * k);
+      EXPECT_GE(pairs.size(), n * k / 2);
+      EXPECT_TRUE(std::is_sorted(pairs.begin(), pairs.end()));
+      std::vector<int> degree(n, 0);
+      for (const auto& [i, j] : pairs) {
+        ASSERT_LT(i, j);
+        ASSERT_LT(j, n);
+        ++degree[i], ++degree[j];
+      }
+      for (size_t i = 0; i < n; ++i) EXPECT_GE(degree[i], k) << "image " << i << " lost its own top-k";
+      const std::set<Pair> found(pairs.begin(), pairs.end());
+      const double recall = Recall(strong, found);
+      size_t disjoint = 0;
+      for (const Pair& p : pairs) disjoint += !any_set.count(p);
+      std::cout << "k " << k << " seed " << seed << ": " << pairs.size() << " pairs, recall of the "
+                << strong.size() << " pairs overlapping >= 50%: " << recall << ", of the " << any.size()
+                << " overlapping at all: " << Recall(any, found) << ", disjoint pairs " << disjoint << std::endl;
+      recall_sum += recall;
+      disjoint_fraction_sum += double(disjoint) / pairs.size();
     }
-    for (size_t i = 0; i < n; ++i) EXPECT_GE(degree[i], k) << "image " << i << " lost its own top-k";
-    const std::set<Pair> found(pairs.begin(), pairs.end());
-    const double recall = Recall(strong, found);
-    size_t disjoint = 0;
-    for (const Pair& p : pairs) disjoint += !any_set.count(p);
-    std::cout << "k " << k << ": " << pairs.size() << " pairs, recall of the " << strong.size()
-              << " pairs overlapping >= 50%: " << recall << ", of the " << any.size()
-              << " overlapping at all: " << Recall(any, found) << ", disjoint pairs " << disjoint << std::endl;
-    // Bars a little below the measured values (k 5: recall 0.984 of 62, no disjoint pair;
-    // k 10: recall 1.0, 17 of 226 pairs disjoint: the top 10 reach past the ~3 neighbours per
+    // Bars as for one seed (k 5: recall 0.984 of 62 with no disjoint pair at OpenCV's seed 0;
+    // k 10: recall 1.0, 17 of 226 disjoint: the top 10 reach past the ~3 neighbours per
     // image that overlap >= 50% into images that look alike without sharing ground).
-    EXPECT_GE(recall, k == 5 ? 0.95 : 0.99);
-    EXPECT_LE(disjoint, k == 5 ? pairs.size() / 50 : pairs.size() / 10);
+    EXPECT_GE(recall_sum / kSeeds, k == 5 ? 0.95 : 0.99);
+    EXPECT_LE(disjoint_fraction_sum / kSeeds, k == 5 ? 0.02 : 0.1);
   }
 }
 

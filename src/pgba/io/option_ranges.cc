@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "matching/relative_pose_method.h"
 #include "pgba/util/error.h"
 
 namespace pgba {
@@ -224,15 +225,16 @@ std::string Number(double v) {
   return buf;
 }
 
-// String options that name a method, by dotted path: their valid values. Without this a typo
-// ("samspon") passed the config check and ended the run in the matcher with a bare
-// std::invalid_argument that named neither the file nor the key.
+// String options that name a method, by dotted path: their valid values, the matcher's own
+// names (matching/relative_pose_method.h). Without this a typo ("samspon") passed the config
+// check and ended the run in the matcher with a bare std::invalid_argument that named
+// neither the file nor the key.
 const std::map<std::string, std::vector<std::string>>& ChoiceTable() {
   static const std::map<std::string, std::vector<std::string>> table = [] {
     std::map<std::string, std::vector<std::string>> t;
     for (const std::string prefix : {"matching.verification.relative_pose", "pairs.relative_pose"}) {
-      t[prefix + ".scoring"] = {"sampson", "opengv"};     // RelativePoseOptions::scoring
-      t[prefix + ".algorithm"] = {"stewenius", "nister"};  // RelativePoseOptions::algorithm
+      t[prefix + ".scoring"] = MethodNames(kPoseScoringNames);   // RelativePoseOptions::scoring
+      t[prefix + ".algorithm"] = MethodNames(kPoseSolverNames);  // RelativePoseOptions::algorithm
     }
     return t;
   }();
