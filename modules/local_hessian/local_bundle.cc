@@ -91,10 +91,15 @@ LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const L
     if (c == in.camera_ids.end() || *c != id) continue;
     problem->view_intrinsics[k] = static_cast<int>(c - in.camera_ids.begin());
   }
-  // View of each image in the motion; an image twice is invalid.
-  std::map<uint32_t, int> view_of_image;
-  for (int k = 0; k < n; ++k)
-    if (!view_of_image.emplace(motion.image_ids[k], k).second) return LocalHessianStatus::kInvalidInput;
+  // View of each image in the motion, as (image id, view) sorted by id; an image twice is
+  // invalid. A sorted vector and buffers reused across tracks: this loop runs over every
+  // track element of every motion in each local Hessian pass (with a std::map and per-track
+  // vectors it was a fifth of the problem's construction, triangulation included).
+  std::vector<std::pair<uint32_t, int>> view_of_image(n);
+  for (int k = 0; k < n; ++k) view_of_image[k] = {motion.image_ids[k], k};
+  std::sort(view_of_image.begin(), view_of_image.end());
+  for (int k = 1; k < n; ++k)
+    if (view_of_image[k].first == view_of_image[k - 1].first) return LocalHessianStatus::kInvalidInput;
 
   TriangulationOptions tri;
   tri.huber_px = options.huber_px;
@@ -103,18 +108,22 @@ LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const L
   // Observation of the current track in each view, if any (the first one if an image sees
   // the track twice).
   std::vector<int> point2D_idx(n);
+  std::vector<TrackView> views;
+  std::vector<int> view_of;
+  views.reserve(n);
+  view_of.reserve(n);
   for (const uint64_t track_id : motion.track_ids) {
     const auto pit = tracks.points3D.find(track_id);
     if (pit == tracks.points3D.end()) return LocalHessianStatus::kInvalidInput;
     std::fill(point2D_idx.begin(), point2D_idx.end(), -1);
     for (const TrackElement& el : pit->second.track) {
-      const auto v = view_of_image.find(el.image_id);
-      if (v == view_of_image.end() || point2D_idx[v->second] >= 0) continue;
+      const auto v = std::lower_bound(view_of_image.begin(), view_of_image.end(), std::make_pair(el.image_id, 0));
+      if (v == view_of_image.end() || v->first != el.image_id || point2D_idx[v->second] >= 0) continue;
       if (el.point2D_idx >= images[v->second]->points2D.size()) return LocalHessianStatus::kInvalidInput;
       point2D_idx[v->second] = static_cast<int>(el.point2D_idx);
     }
-    std::vector<TrackView> views;
-    std::vector<int> view_of;
+    views.clear();
+    view_of.clear();
     for (int k = 0; k < n; ++k) {
       if (point2D_idx[k] < 0) continue;
       views.push_back({motion.local_poses[k], problem->cameras[k], images[k]->points2D[point2D_idx[k]].xy});
@@ -125,7 +134,7 @@ LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const L
     const TriangulatedPoint X = TriangulateTrack(views, tri);
     if (!X.ok) continue;
     // Keep the observations consistent with the point; a point needs two of them.
-    std::vector<LocalObservation> kept;
+    const size_t first = problem->observations.size();
     for (size_t v = 0; v < views.size(); ++v)
       if (X.residuals_px[v] <= options.max_reprojection_px) {
         double w = 1.0;
@@ -133,11 +142,13 @@ LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const L
           const auto it = shares->find({motion.image_ids[view_of[v]], track_id});
           if (it != shares->end() && it->second > 0) w = 1.0 / it->second;
         }
-        kept.push_back({view_of[v], static_cast<int>(problem->points.size()), views[v].pixel, w});
+        problem->observations.push_back({view_of[v], static_cast<int>(problem->points.size()), views[v].pixel, w});
       }
-    if (kept.size() < 2) continue;
+    if (problem->observations.size() - first < 2) {
+      problem->observations.resize(first);
+      continue;
+    }
     problem->points.push_back(X.X);
-    problem->observations.insert(problem->observations.end(), kept.begin(), kept.end());
   }
   const int m = static_cast<int>(problem->points.size());
   if (m < std::max(options.min_points, 1)) return LocalHessianStatus::kTooFewPoints;

@@ -145,17 +145,32 @@ ReducedCameraSystem ReducedCameraMatrix(const LocalBundleProblem& p) {
     Eigen::Matrix3d Hpp_inv;
     if (PseudoInverse3(Hpp, &Hpp_inv)) {
       // Only the rows of this point: H_cp is zero elsewhere (a 6N x 6N product per point
-      // would make long motions quadratic in N for nothing).
-      for (const Segment& a : segments)
-        for (const Segment& b : segments) {
-          if (a.size == 6 && b.size == 6) {  // pose-pose: fixed-size products (the hot loop)
-            out.h.block<6, 6>(a.row, b.row) -=
-                Hcp.middleRows<6>(a.row) * Hpp_inv * Hcp.middleRows<6>(b.row).transpose();
-          } else {
-            out.h.block(a.row, b.row, a.size, b.size) -=
-                Hcp.middleRows(a.row, a.size) * Hpp_inv * Hcp.middleRows(b.row, b.size).transpose();
+      // would make long motions quadratic in N for nothing). Only the blocks on and above the
+      // diagonal: h is symmetrised below, 0.5 (h + h^T), so an off-diagonal block subtracted
+      // twice above it and not at all below gives the same h at a third of the products
+      // (the pose-pose blocks of a track of L views are L^2 of them; long whole-track motions).
+      for (const Segment& a : segments) {
+        if (a.size == 6) {  // pose rows: fixed-size products (the hot loop)
+          const Eigen::Matrix<double, 6, 3> T = Hcp.middleRows<6>(a.row) * Hpp_inv;
+          const Eigen::Matrix<double, 6, 3> T2 = 2.0 * T;
+          for (const Segment& b : segments) {
+            if (b.row < a.row) continue;
+            const Eigen::Matrix<double, 6, 3>& Ta = b.row == a.row ? T : T2;
+            if (b.size == 6) {
+              out.h.block<6, 6>(a.row, b.row).noalias() -= Ta * Hcp.middleRows<6>(b.row).transpose();
+            } else {
+              out.h.block(a.row, b.row, 6, b.size).noalias() -= Ta * Hcp.middleRows(b.row, b.size).transpose();
+            }
           }
+          continue;
         }
+        const Eigen::MatrixXd T = Hcp.middleRows(a.row, a.size) * Hpp_inv;
+        for (const Segment& b : segments) {
+          if (b.row < a.row) continue;
+          const double twice = b.row == a.row ? 1.0 : 2.0;
+          out.h.block(a.row, b.row, a.size, b.size).noalias() -= (twice * T) * Hcp.middleRows(b.row, b.size).transpose();
+        }
+      }
       out.g -= Hcp * (Hpp_inv * gp);
       ++out.num_points_used;
     }
