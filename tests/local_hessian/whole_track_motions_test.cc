@@ -33,6 +33,17 @@ Reconstruction Ring(int num_images, double visibility_deg, uint64_t seed) {
   return MakeRingScene(o);
 }
 
+// A 16-view ring through a SIMPLE_RADIAL lens (k -0.08): the self-calibration tests' scene.
+RingSceneOptions LensRingOptions() {
+  RingSceneOptions ro;
+  ro.num_images = 16;
+  ro.num_points = 1500;
+  ro.visibility_deg = 60.0;
+  ro.k1 = -0.08;
+  ro.seed = 5;
+  return ro;
+}
+
 std::set<uint32_t> PosedViews(const Point3D& p, const std::map<uint32_t, Pose>& poses) {
   std::set<uint32_t> v;
   for (const TrackElement& el : p.track)
@@ -126,12 +137,7 @@ TEST(WholeTrackMotions, SumOfLocalHessiansIsThePointBasedReducedCameraSystem) {
 // the radial coefficient of the shared camera as unknowns of every h (6N + 2 rows). The
 // motions' intrinsic rows add up, like their pose rows, to the point-based system's.
 TEST(WholeTrackMotions, SumOfLocalHessiansWithIntrinsicsIsThePointBasedReducedCameraSystem) {
-  RingSceneOptions ro;
-  ro.num_images = 16;
-  ro.num_points = 1500;
-  ro.visibility_deg = 60.0;
-  ro.k1 = -0.08;
-  ro.seed = 5;
+  const RingSceneOptions ro = LensRingOptions();
   const Reconstruction rec = MakeRingScene(ro);
   const std::map<uint32_t, Pose> poses = PosesOf(rec);
   const LocalHessianOptions lh = WholeTrackLocalHessianOptions();
@@ -177,12 +183,7 @@ TEST(WholeTrackMotions, SumOfLocalHessiansWithIntrinsicsIsThePointBasedReducedCa
 // point-based reduced gradient, as their h do. This is what makes the re-linearised global BA
 // Gauss-Newton on the point-based cost when it self-calibrates.
 TEST(WholeTrackMotions, SumOfReducedGradientsWithIntrinsicsAwayFromTheOptimum) {
-  RingSceneOptions ro;
-  ro.num_images = 16;
-  ro.num_points = 1500;
-  ro.visibility_deg = 60.0;
-  ro.k1 = -0.08;
-  ro.seed = 5;
+  const RingSceneOptions ro = LensRingOptions();
   Reconstruction rec = MakeRingScene(ro);
   rec.cameras.at(1).params[0] *= 1.02;
   rec.cameras.at(1).params[3] = 0.0;
