@@ -21,6 +21,18 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 double SigmaOrNaN(const SigmaResult& s) { return s.Computable() ? s.rms : kNaN; }
 
+// Aver_BA (the paper's baseline) averages relative motions that their own local BAs solved,
+// the triplets of configs/paper_triplets.json. Whole-track motions are not solved locally
+// (local_hessian.max_iterations 0: their x0 are the linearisation poses), so averaging them
+// hands back those poses: a row that would read as a result. It is not run then.
+constexpr const char* kAveragingNeedsSolvedMotions =
+    "Aver_BA needs motions solved by their own local BAs (whole-track motions are not): run with --config "
+    "configs/paper_triplets.json";
+
+bool AveragingApplies(const BenchmarkOptions& options) {
+  return options.refinement.local_motions.kind != MotionKind::kWholeTracks;
+}
+
 MethodOutcome RunMethod(RefinementMethod method, const Reconstruction& tracks, const GlobalMapperResult& init,
                         const PreparedHessians* hessians, const Reconstruction* gt,
                         const std::vector<LoopCorrespondence>* loops, const BenchmarkOptions& options) {
@@ -84,6 +96,7 @@ SweepPoint RunSweepPoint(const Reconstruction& input_tracks, double fraction, co
     PreparedHessians h = PrepareLocalHessians(tracks, init.init.poses, init.init.triplets, options.refinement);
     p.triplets_corrupted = CorruptMotions(fraction, mapper.global_init.outliers.seed, init.init.triplets, &h);
     for (RefinementMethod method : {RefinementMethod::kPointless, RefinementMethod::kAveraging}) {
+      if (method == RefinementMethod::kAveraging && !AveragingApplies(options)) continue;  // NaN, 0 images
       const RefinementResult r =
           RefinePoses(method, tracks, init.init.poses, init.init.triplets, &h, options.refinement, false);
       const double sigma = SigmaOrNaN(EvaluateSigma(tracks, r.poses, options.evaluation.sigma));
@@ -105,8 +118,13 @@ BenchmarkResult RunBenchmark(const Reconstruction& tracks, const GlobalMapperRes
   BenchmarkResult result;
   result.init_metrics = Evaluate(TriangulateModel(tracks, init.init.poses), tracks, gt, loops, options.evaluation);
   const PreparedHessians hessians = PrepareLocalHessians(tracks, init.init.poses, init.init.triplets, options.refinement);
-  for (RefinementMethod method : kAllRefinementMethods)
+  for (RefinementMethod method : kAllRefinementMethods) {
+    if (method == RefinementMethod::kAveraging && !AveragingApplies(options)) {
+      result.skipped[RefinementMethodName(method)] = kAveragingNeedsSolvedMotions;
+      continue;
+    }
     result.methods.push_back(RunMethod(method, tracks, init, &hessians, gt, loops, options));
+  }
   if (options.triplet_split)
     result.methods.push_back(RunMethod(RefinementMethod::kPointBasedSplit, tracks, init, &hessians, gt, loops, options));
   for (double f : options.outlier_sweep) result.sweep.push_back(RunSweepPoint(tracks, f, options));
@@ -133,6 +151,7 @@ nlohmann::json BenchmarkResult::ToJson() const {
     e["details"]["method"] = r.details;
     j["methods"][RefinementMethodName(r.method)] = e;
   }
+  for (const auto& [name, reason] : skipped) j["skipped"][name] = reason;
   if (!sweep.empty()) {
     j["outlier_sweep"] = nlohmann::json::array();
     for (const SweepPoint& p : sweep) {
@@ -182,6 +201,7 @@ void PrintBenchmarkTables(const BenchmarkResult& result, std::ostream& out) {
                   r.iterations, r.adjust_seconds, r.prepare_seconds, r.peak_rss_mb);
     out << line;
   }
+  for (const auto& [name, reason] : result.skipped) out << "(" << name << " not run: " << reason << ")\n";
   const bool has_loop = result.init_metrics.loop && result.init_metrics.loop->Computable();
   if (has_loop) {
     out << "\nTable 2 (loop-closure error on withheld correspondences, px)\n";

@@ -7,6 +7,7 @@
 // by random ones.
 #pragma once
 
+#include <map>
 #include <nlohmann/json.hpp>
 #include <ostream>
 #include <string>
@@ -59,10 +60,12 @@ struct BenchmarkResult {
   EvaluationMetrics init_metrics;  // the shared initial poses
   std::vector<MethodOutcome> methods;  // kAllRefinementMethods order, then pointbased_split
   std::vector<SweepPoint> sweep;
+  // Methods not run, by name, with the reason (benchmark.json "skipped").
+  std::map<std::string, std::string> skipped;
   // benchmark.json (ARCHITECTURE.md "Report keys"):
   // {"methods": {NAME: {"sigma_init", "sigma_final", "params", "iterations", "adjust_seconds",
   //   "prepare_seconds", "peak_rss_mb", "loop_err_rms", "rot_err_deg_median", "convergence",
-  //   ...}}, "init": {...}, "outlier_sweep": [...]}
+  //   ...}}, "init": {...}, "outlier_sweep": [...], "skipped": {NAME: reason}}
   nlohmann::json ToJson() const;
 };
 
