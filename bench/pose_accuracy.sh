@@ -9,7 +9,10 @@
 # Usage: bench/pose_accuracy.sh OUT [SCENE...]
 #   SCENE: orbit:SEED | aerial:SEED[:IMAGES] | planar:SEED | longfocal:SEED | tracks:DIR:GT
 #   default: orbit, aerial, planar and longfocal at seeds 1-4.
-# Environment: PGBA (default: newest build*/bin/pgba), CONFIG (a config for both methods).
+# Environment: PGBA (default: newest build*/bin/pgba), CONFIG (a config for both methods),
+#   THREADS (pgba --threads; 1 makes the cpu column the single-thread time ratio).
+# Columns: time = wall-clock ratio; cpu = the same ratio in CPU seconds (benchmark.json
+#   cpu_seconds), which a loaded machine inflates far less than wall time.
 set -euo pipefail
 if [[ $# -lt 1 ]]; then
   echo "usage: $0 OUT [SCENE...]" >&2
@@ -29,6 +32,8 @@ if [[ ${#scenes[@]} -eq 0 ]]; then
   done
 fi
 config_args=()
+thread_args=()
+[[ -n "${THREADS:-}" ]] && thread_args=(--threads "$THREADS")
 [[ -n "${CONFIG:-}" ]] && config_args=(--config "$CONFIG")
 mkdir -p "$out"
 
@@ -46,7 +51,7 @@ for scene in "${scenes[@]}"; do
     bench_args=(--tracks "$dir/scene/input" --gt "$dir/scene/gt")
     [[ -f "$dir/scene/loop_pairs.txt" ]] && bench_args+=(--loop "$dir/scene/loop_pairs.txt")
   fi
-  "$PGBA" benchmark "${bench_args[@]}" "${config_args[@]}" --no-convergence --out "$dir/benchmark" \
+  "$PGBA" "${thread_args[@]}" benchmark "${bench_args[@]}" "${config_args[@]}" --no-convergence --out "$dir/benchmark" \
     >"$dir.benchmark.log" 2>&1 || { echo "$scene: benchmark failed (see $dir.benchmark.log)"; continue; }
 done
 
@@ -54,7 +59,7 @@ python3 - "$out" "${scenes[@]}" <<'EOF'
 import json, sys
 out, scenes = sys.argv[1], sys.argv[2:]
 print(f"{'scene':24} {'rel_rot pl':>10} {'pb':>9} {'ratio':>6} {'max ratio':>9} {'dir ratio':>9} "
-      f"{'sigma':>6} {'params':>6} {'time':>6} {'images pl/pb':>12}")
+      f"{'sigma':>6} {'params':>6} {'time':>6} {'cpu':>6} {'images pl/pb':>12}")
 for scene in scenes:
     name = scene.replace(':', '_').replace('/', '_')
     try:
@@ -66,10 +71,11 @@ for scene in scenes:
     def g(m, k):
         return m.get(k, float('nan'))
     t = lambda m: m["adjust_seconds"] + m["prepare_seconds"]
+    cpu = pl.get("cpu_seconds", float('nan')) / pb.get("cpu_seconds", float('nan'))
     print(f"{scene[:24]:24} {g(pl,'rel_rot_err_deg_median'):10.5f} {g(pb,'rel_rot_err_deg_median'):9.5f} "
           f"{g(pl,'rel_rot_err_deg_median')/g(pb,'rel_rot_err_deg_median'):6.3f} "
           f"{g(pl,'rel_rot_err_deg_max')/g(pb,'rel_rot_err_deg_max'):9.3f} "
           f"{g(pl,'rel_dir_err_deg_median')/g(pb,'rel_dir_err_deg_median'):9.3f} "
           f"{g(pl,'sigma_final')/g(pb,'sigma_final'):6.3f} {pl['params']/pb['params']:6.3f} "
-          f"{t(pl)/t(pb):6.3f} {pl.get('images_registered','?'):>5}/{pb.get('images_registered','?')}")
+          f"{t(pl)/t(pb):6.3f} {cpu:6.3f} {pl.get('images_registered','?'):>5}/{pb.get('images_registered','?')}")
 EOF

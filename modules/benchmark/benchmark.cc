@@ -9,6 +9,7 @@
 #include "benchmark/svg_plot.h"
 #include "averaging/outlier_injection.h"
 #include "pgba/io/report.h"
+#include "pgba/util/timer.h"
 #include "pgba/util/text_format.h"
 #include "pgba/scene/triangulate_model.h"
 #include "pgba/util/error.h"
@@ -35,10 +36,15 @@ bool AveragingApplies(const BenchmarkOptions& options) {
 
 MethodOutcome RunMethod(RefinementMethod method, const Reconstruction& tracks, const GlobalMapperResult& init,
                         const PreparedHessians* hessians, const Reconstruction* gt,
-                        const std::vector<LoopCorrespondence>* loops, const BenchmarkOptions& options) {
+                        const std::vector<LoopCorrespondence>* loops, const BenchmarkOptions& options,
+                        double hessians_cpu_seconds) {
   MethodOutcome m;
+  const double cpu = ProcessCpuSeconds();
   m.refinement =
       RefinePoses(method, tracks, init.init.poses, init.init.triplets, hessians, options.refinement, options.convergence);
+  m.cpu_seconds = ProcessCpuSeconds() - cpu;
+  if (method != RefinementMethod::kPointBased && method != RefinementMethod::kPointBasedSplit)
+    m.cpu_seconds += hessians_cpu_seconds;
   m.model = TriangulateModel(tracks, m.refinement.poses);
   m.metrics = Evaluate(m.model, tracks, gt, loops, options.evaluation);
   for (const auto& poses : m.refinement.history)
@@ -117,16 +123,19 @@ BenchmarkResult RunBenchmark(const Reconstruction& tracks, const GlobalMapperRes
                              const std::vector<LoopCorrespondence>* loops, const BenchmarkOptions& options) {
   BenchmarkResult result;
   result.init_metrics = Evaluate(TriangulateModel(tracks, init.init.poses), tracks, gt, loops, options.evaluation);
+  const double cpu = ProcessCpuSeconds();
   const PreparedHessians hessians = PrepareLocalHessians(tracks, init.init.poses, init.init.triplets, options.refinement);
+  const double hessians_cpu = ProcessCpuSeconds() - cpu;
   for (RefinementMethod method : kAllRefinementMethods) {
     if (method == RefinementMethod::kAveraging && !AveragingApplies(options)) {
       result.skipped[RefinementMethodName(method)] = kAveragingNeedsSolvedMotions;
       continue;
     }
-    result.methods.push_back(RunMethod(method, tracks, init, &hessians, gt, loops, options));
+    result.methods.push_back(RunMethod(method, tracks, init, &hessians, gt, loops, options, hessians_cpu));
   }
   if (options.triplet_split)
-    result.methods.push_back(RunMethod(RefinementMethod::kPointBasedSplit, tracks, init, &hessians, gt, loops, options));
+    result.methods.push_back(
+        RunMethod(RefinementMethod::kPointBasedSplit, tracks, init, &hessians, gt, loops, options, hessians_cpu));
   for (double f : options.outlier_sweep) result.sweep.push_back(RunSweepPoint(tracks, f, options));
   return result;
 }
@@ -144,6 +153,7 @@ nlohmann::json BenchmarkResult::ToJson() const {
     e["iterations"] = r.iterations;
     e["adjust_seconds"] = r.adjust_seconds;
     e["prepare_seconds"] = r.prepare_seconds;
+    e["cpu_seconds"] = m.cpu_seconds;
     e["peak_rss_mb"] = r.peak_rss_mb;
     e["images_excluded"] = r.excluded_images.size();
     e["convergence"] = nlohmann::json::array();

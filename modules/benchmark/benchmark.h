@@ -41,6 +41,9 @@ struct MethodOutcome {
   Reconstruction model;  // tracks triangulated with the refined poses
   EvaluationMetrics metrics;
   std::vector<double> convergence;  // sigma_rms per iteration (index 0: initial poses)
+  // CPU time (all threads) of the adjustment and of the preparation it needs (the local
+  // Hessians for the motion methods, the triangulation for the point-based BA).
+  double cpu_seconds = 0.0;
 };
 
 struct SweepPoint {
@@ -64,7 +67,7 @@ struct BenchmarkResult {
   std::map<std::string, std::string> skipped;
   // benchmark.json (ARCHITECTURE.md "Report keys"):
   // {"methods": {NAME: {"sigma_init", "sigma_final", "params", "iterations", "adjust_seconds",
-  //   "prepare_seconds", "peak_rss_mb", "loop_err_rms", "rot_err_deg_median", "convergence",
+  //   "prepare_seconds", "cpu_seconds", "peak_rss_mb", "loop_err_rms", "rot_err_deg_median", "convergence",
   //   ...}}, "init": {...}, "outlier_sweep": [...], "skipped": {NAME: reason}}
   nlohmann::json ToJson() const;
 };

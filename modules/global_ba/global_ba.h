@@ -148,6 +148,12 @@ struct GlobalBAOptions {
   // then still has two steps to go. Measured on the long-focal loops, seed 3: 1 pass 1.40x
   // the point-based median relative rotation error (max 1.57x), 2 passes 1.03x (1.17x).
   int max_relinearizations_far_start = 2;
+  // Not a config key: set by the checked re-linearisation for a solve it re-linearises next
+  // (MotionBlockSolverOptions::stop_at_refused_step; the motion-block solver only). Measured on
+  // the long-focal loop seed 1: the first whole-track solve took 2 steps, then 6 refused ones
+  // while the radius shrank from 3e8 to 151, then 6 more at gain ratios ~0.3, to a cost 5%
+  // lower (846 -> 806) that the next linearisation moves by 20x that.
+  bool stop_at_refused_step = false;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(GlobalBAOptions, weighting, gauge, similarity_init, max_rounds,
                                                 max_iterations_per_round, round_tolerance, function_tolerance,

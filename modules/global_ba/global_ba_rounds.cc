@@ -173,6 +173,7 @@ RoundSummary SolveRoundByBlocks(const GlobalBAOptions& options, int round, bool 
   so.parameter_tolerance = options.parameter_tolerance;
   so.initial_radius = options.initial_trust_region_radius;
   so.embedded_similarity_iterations = options.embedded_similarity_iterations;
+  so.stop_at_refused_step = options.stop_at_refused_step;
   const MotionBlockCallback report = [&](int iteration, double cost) {
     if (iteration == 0 && (round > 0 || !report_start)) return;
     if (iteration > 0) ++summary->iterations;

@@ -260,6 +260,7 @@ MotionBlockSummary SolveMotionBlocks(const MotionBlockProblem& p, const MotionBl
   }
   if (callback) callback(0, cost);
   double radius = options.initial_radius, nu = 2.0;
+  int accepted = 0;  // steps taken
   const int m = static_cast<int>(p.poses.size());
   const int num_intrinsic_blocks = static_cast<int>(p.intrinsics.size());
   std::vector<TermSystem> sys(p.terms.size());
@@ -376,6 +377,7 @@ MotionBlockSummary SolveMotionBlocks(const MotionBlockProblem& p, const MotionBl
     const double rho = predicted > 0 ? (cost - new_cost) / predicted : -1.0;
     summary.iterations = iteration;
     if (std::isfinite(new_cost) && rho > kMinRelativeDecrease) {
+      ++accepted;
       const double decrease = cost - new_cost;
       cost = new_cost;
       radius = radius / std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3));
@@ -392,6 +394,7 @@ MotionBlockSummary SolveMotionBlocks(const MotionBlockProblem& p, const MotionBl
       radius /= nu;
       nu *= 2.0;
       if (callback) callback(iteration, cost);
+      if (options.stop_at_refused_step && accepted > 0) break;
       if (std::sqrt(step_norm2) <= options.parameter_tolerance * (std::sqrt(x_norm2) + options.parameter_tolerance))
         break;
     }

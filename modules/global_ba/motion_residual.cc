@@ -1,13 +1,36 @@
 #include "modules/global_ba/motion_residual.h"
 
-#include <ceres/jet.h>
+#include "pgba/geometry/rotation.h"
 
 namespace pgba {
 
 namespace {
 constexpr int kVars = 6 + 7;  // one pose block and the similarity
-using Jet13 = ceres::Jet<double, kVars>;
 }  // namespace
+
+// With v = C - G, A = r0_k^T R0_k, alpha = alpha0 Exp(theta), D = A Exp(omega) alpha^T and
+// phi = Log(D) (right perturbations, Exp(x + d) = Exp(x) Exp(Jr(x) d), R Exp(u) R^T = Exp(R u)):
+//   d dc / dC = lambda alpha,  d dc / dbeta = I,  d dc / dlambda = alpha v,
+//   d dc / dtheta = -lambda alpha [v]_x Jr(theta)             (alpha Exp(u) v = alpha v - alpha [v]_x u),
+//   d phi / domega =  Jr^-1(phi) alpha Jr(omega)              (D' = D Exp(alpha Jr(omega) d)),
+//   d phi / dtheta = -Jr^-1(phi) alpha Jr(theta)              (D' = D Exp(-alpha Jr(theta) d)).
+void ViewDeviation::Linearize(const double* pose, const double* sim, double* dx,
+                              Eigen::Matrix<double, 6, kVars>* J) const {
+  (*this)(pose, sim, dx);
+  const Eigen::Map<const Eigen::Vector3d> C(pose), omega(pose + 3), theta(sim + 3);
+  const double lambda = sim[6];
+  const Eigen::Matrix3d alpha = alpha0 * ExpSO3(theta);
+  const Eigen::Vector3d v = C - G;
+  const Eigen::Matrix3d Jr_theta = RightJacobianSO3(theta);
+  const Eigen::Matrix3d Jinv_alpha = InverseRightJacobianSO3(Eigen::Map<const Eigen::Vector3d>(dx + 3)) * alpha;
+  J->setZero();
+  J->block<3, 3>(0, 0) = lambda * alpha;
+  J->block<3, 3>(0, 6).setIdentity();
+  J->block<3, 3>(0, 9) = -lambda * alpha * Skew(v) * Jr_theta;
+  J->block<3, 1>(0, 12) = alpha * v;
+  J->block<3, 3>(3, 3) = Jinv_alpha * RightJacobianSO3(omega);
+  J->block<3, 3>(3, 9) = -Jinv_alpha * Jr_theta;
+}
 
 MotionResidual::MotionResidual(const std::vector<Eigen::Matrix3d>& R0, const MotionSimilarity& sim,
                                const std::vector<Pose>& x0, MotionWeight W,
@@ -49,16 +72,7 @@ void MotionResidual::Linearize(const std::vector<const double*>& poses, const do
   dx->resize(6 * n + num_intrinsics());
   IntrinsicDeviation(intrinsics, dx->data() + 6 * n);
   J->resize(n);
-  Jet13 pose[6], s[7], d[6];
-  for (int i = 0; i < 7; ++i) s[i] = Jet13(sim[i], 6 + i);
-  for (int k = 0; k < n; ++k) {
-    for (int i = 0; i < 6; ++i) pose[i] = Jet13(poses[k][i], i);
-    views_[k](pose, s, d);
-    for (int i = 0; i < 6; ++i) {
-      (*dx)(6 * k + i) = d[i].a;
-      (*J)[k].row(i) = d[i].v.transpose();
-    }
-  }
+  for (int k = 0; k < n; ++k) views_[k].Linearize(poses[k], sim, dx->data() + 6 * k, &(*J)[k]);
 }
 
 bool MotionResidual::Evaluate(double const* const* parameters, double* residuals, double** jacobians) const {

@@ -15,10 +15,9 @@
 // local frame does not act on intrinsics, so they are compared directly).
 //
 // The Jacobian is composed, not differentiated through W: each view's 6-vector depends only
-// on its own pose and the similarity, so automatic differentiation runs per view over 13
-// variables (ViewDeviation), and W_s multiplies the 6 x 13 blocks in doubles. A triplet then
-// costs 3 small Jet evaluations instead of one 18 x 18 product of 25-wide Jets, and a
-// motion of N views costs O(N^2) multiplications, not O(N^3) Jet operations.
+// on its own pose and the similarity, so its 6 x 13 Jacobian is written per view in closed
+// form (ViewDeviation::Linearize), and W_s multiplies those blocks in doubles. A motion of N
+// views costs O(N^2) multiplications, not O(N^3) Jet operations.
 #pragma once
 
 #include <ceres/ceres.h>
@@ -57,6 +56,10 @@ struct ViewDeviation {
     const Mat3 d = r0t_R0.cast<T>() * exp_omega * alpha.transpose();
     ceres::RotationMatrixToAngleAxis(d.data(), dx + 3);  // quaternion/atan2 based: exact near 0
   }
+
+  // dx (as operator()) and its 6 x 13 Jacobian d dx / d(pose, sim), in closed form (SO(3) right
+  // Jacobians, motion_residual.cc); the templated operator() is its reference in the tests.
+  void Linearize(const double* pose, const double* sim, double* dx, Eigen::Matrix<double, 6, 13>* J) const;
 };
 
 class MotionResidual : public ceres::CostFunction {

@@ -209,6 +209,7 @@ GlobalBAResult CheckedRelinearization(const Reconstruction& tracks, const LocalH
   // A solve whose solution is re-linearised next stops at the looser tolerance.
   GlobalBAOptions before_pass = pointless;
   before_pass.function_tolerance = std::max(options.function_tolerance, options.relinearized_function_tolerance);
+  before_pass.stop_at_refused_step = true;
   const auto solve_options = [&](int passes_left) -> const GlobalBAOptions& {
     return passes_left > 0 ? before_pass : pointless;
   };

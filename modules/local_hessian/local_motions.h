@@ -75,10 +75,17 @@ struct LocalMotionOptions {
   // 8 iterations the cost sits 0.6% above where 25 (the global BA's cap) leave it, and the
   // result's relative rotation error is the same (0.951x vs 0.954x point-based).
   int triplet_start_max_iterations = 8;
+  // The triplets that BA uses: about this many per image, best supported first, plus what
+  // keeps their graph connected (triplets/triplet_selection.h); <= 0: every triplet. The
+  // start's cost is its triplets' local Hessians (each track again in every triplet that
+  // holds it: 84,610 triplet tracks for the 6,768 tracks of a long-focal loop), and a
+  // linearisation point needs only a connected, covering subset.
+  int triplet_start_max_per_image = 2;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(LocalMotionOptions, kind, max_views, min_tracks, views,
                                                 min_shared_tracks, max_iterations, neighbour_strides,
-                                                triplet_start_misfit, triplet_start_max_iterations)
+                                                triplet_start_misfit, triplet_start_max_iterations,
+                                                triplet_start_max_per_image)
 
 // Whether the motions' start must come from the triplets' pointless BA and be converged by
 // their own local BA (kNeighbours: local_motions.h above). Whole-track motions need neither:

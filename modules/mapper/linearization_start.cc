@@ -6,6 +6,7 @@
 #include "modules/global_ba/global_ba.h"
 #include "modules/local_hessian/local_hessian.h"
 #include "pgba/util/upper_median.h"
+#include "triplets/triplet_selection.h"
 
 namespace pgba {
 
@@ -34,8 +35,23 @@ double TripletRotationMisfit(const Reconstruction& tracks, const std::map<uint32
   return misfit.empty() ? 0.0 : UpperMedian(misfit);
 }
 
+std::vector<Triplet> TripletStartSubset(const std::vector<Triplet>& triplets, int max_per_image) {
+  if (max_per_image <= 0) return triplets;
+  std::vector<TripletCandidate> candidates(triplets.size());
+  for (size_t i = 0; i < triplets.size(); ++i) {
+    candidates[i].image_ids = triplets[i].image_ids;
+    std::sort(candidates[i].image_ids.begin(), candidates[i].image_ids.end());
+    candidates[i].score = static_cast<double>(triplets[i].track_ids.size());
+  }
+  std::vector<Triplet> subset;
+  for (const size_t i : SelectTriplets(candidates, max_per_image)) subset.push_back(triplets[i]);
+  return subset;
+}
+
 std::map<uint32_t, Pose> TripletPointlessStart(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
-                                               const std::vector<Triplet>& triplets, int max_iterations) {
+                                               const std::vector<Triplet>& all_triplets, int max_iterations,
+                                               int max_per_image) {
+  const std::vector<Triplet> triplets = TripletStartSubset(all_triplets, max_per_image);
   // The triplets come converged from their own BA (triplet stage): h is taken where they are.
   LocalHessianOptions paper_lh;
   paper_lh.max_iterations = 0;

@@ -29,10 +29,15 @@ namespace pgba {
 double TripletRotationMisfit(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
                              const std::vector<Triplet>& triplets);
 
+// The triplets the start uses: about `max_per_image` per image (most tracks first), covering
+// every image and keeping the triplet graph connected (SelectTriplets); all for <= 0.
+std::vector<Triplet> TripletStartSubset(const std::vector<Triplet>& triplets, int max_per_image);
+
 // The poses of the triplets' pointless BA from `initial` (paper settings, one IRLS round of at
-// most `max_iterations`, no re-linearisation: only a linearisation point). Images that BA
-// leaves out keep `initial`.
+// most `max_iterations`, no re-linearisation: only a linearisation point) over
+// TripletStartSubset(triplets, max_per_image). Images that BA leaves out keep `initial`.
 std::map<uint32_t, Pose> TripletPointlessStart(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
-                                               const std::vector<Triplet>& triplets, int max_iterations);
+                                               const std::vector<Triplet>& triplets, int max_iterations,
+                                               int max_per_image);
 
 }  // namespace pgba

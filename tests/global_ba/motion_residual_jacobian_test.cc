@@ -10,6 +10,7 @@
 //      function itself).
 #include "modules/global_ba/motion_residual.h"
 
+#include <ceres/jet.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/QR>
@@ -179,6 +180,37 @@ INSTANTIATE_TEST_SUITE_P(Motions, MotionResidualJacobian,
                            return std::to_string(c.n) + "views_" + std::to_string(c.intrinsic_sizes.size()) +
                                   "cameras_" + (c.factored ? "factored" : "dense");
                          });
+
+// The closed-form 6 x 13 Jacobian of one view's deviation (ViewDeviation::Linearize) against
+// forward-mode automatic differentiation of the same templated formula, at random points and
+// at the linearisation point itself (omega = theta = 0, where the SO(3) Jacobians take their
+// series branches).
+TEST(ViewDeviationJacobian, ClosedFormMatchesAutomaticDifferentiation) {
+  using Jet = ceres::Jet<double, 13>;
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 40; ++trial) {
+    const bool at_reference = trial % 4 == 0;
+    ViewDeviation view{ExpSO3(Gauss(rng, 1.5)), Gauss(rng, 3.0), ExpSO3(Gauss(rng, 0.3)), Gauss(rng, 2.0)};
+    Eigen::Matrix<double, 6, 1> pose;
+    Eigen::Matrix<double, 7, 1> sim;
+    pose << Gauss(rng, 4.0), (at_reference ? Eigen::Vector3d::Zero() : Gauss(rng, 0.3));
+    sim << Gauss(rng, 1.0), (at_reference ? Eigen::Vector3d::Zero() : Gauss(rng, 0.3)),
+        0.5 + std::uniform_real_distribution<double>(0.0, 1.5)(rng);
+    Jet jp[6], js[7], jd[6];
+    for (int i = 0; i < 6; ++i) jp[i] = Jet(pose[i], i);
+    for (int i = 0; i < 7; ++i) js[i] = Jet(sim[i], 6 + i);
+    view(jp, js, jd);
+    double dx[6];
+    Eigen::Matrix<double, 6, 13> J;
+    view.Linearize(pose.data(), sim.data(), dx, &J);
+    for (int r = 0; r < 6; ++r) {
+      EXPECT_NEAR(dx[r], jd[r].a, 1e-13 * (1.0 + std::abs(jd[r].a))) << "trial " << trial;
+      for (int c = 0; c < 13; ++c)
+        EXPECT_NEAR(J(r, c), jd[r].v(c), 1e-11 * (1.0 + std::abs(jd[r].v(c)))) << "trial " << trial << " (" << r
+                                                                                  << ", " << c << ")";
+    }
+  }
+}
 
 }  // namespace
 }  // namespace pgba

@@ -37,6 +37,34 @@ Eigen::Vector3d LogSO3(const Eigen::Matrix3d& R) {
   return theta * v / s;
 }
 
+Eigen::Matrix3d RightJacobianSO3(const Eigen::Vector3d& omega) {
+  const double theta2 = omega.squaredNorm();
+  const Eigen::Matrix3d W = Skew(omega);
+  double a, b;  // Jr = I - a W + b W^2
+  if (theta2 < 1e-8) {
+    a = 0.5 - theta2 / 24.0;
+    b = 1.0 / 6.0 - theta2 / 120.0;
+  } else {
+    const double theta = std::sqrt(theta2);
+    a = (1.0 - std::cos(theta)) / theta2;
+    b = (theta - std::sin(theta)) / (theta2 * theta);
+  }
+  return Eigen::Matrix3d::Identity() - a * W + b * W * W;
+}
+
+Eigen::Matrix3d InverseRightJacobianSO3(const Eigen::Vector3d& phi) {
+  const double theta2 = phi.squaredNorm();
+  const Eigen::Matrix3d W = Skew(phi);
+  double b;  // Jr^-1 = I + W / 2 + b W^2
+  if (theta2 < 1e-8) {
+    b = 1.0 / 12.0 + theta2 / 720.0;
+  } else {
+    const double theta = std::sqrt(theta2);
+    b = 1.0 / theta2 - (1.0 + std::cos(theta)) / (2.0 * theta * std::sin(theta));
+  }
+  return Eigen::Matrix3d::Identity() + 0.5 * W + b * W * W;
+}
+
 Eigen::Matrix3d ClosestRotation(const Eigen::Matrix3d& M) {
   Eigen::JacobiSVD<Eigen::Matrix3d> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
   Eigen::Matrix3d D = Eigen::Matrix3d::Identity();

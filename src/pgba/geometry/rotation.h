@@ -21,6 +21,12 @@ Eigen::Matrix3d ExpSO3(const Eigen::Vector3d& omega);
 // and the local Hessian's rotation eigenvalues of ~1e9 / px^2 would amplify the error).
 Eigen::Vector3d LogSO3(const Eigen::Matrix3d& R);
 
+// Right Jacobian of SO(3): Exp(omega + d) = Exp(omega) Exp(Jr(omega) d) to first order in d,
+// and its inverse: Log(R Exp(u)) = Log(R) + Jr^-1(Log(R)) u. Series branches near 0 keep both
+// exact to machine precision there (the linearisation point of every solve).
+Eigen::Matrix3d RightJacobianSO3(const Eigen::Vector3d& omega);
+Eigen::Matrix3d InverseRightJacobianSO3(const Eigen::Vector3d& phi);
+
 // argmin_{R in SO(3)} ||R - M||_F via SVD (det forced to +1).
 Eigen::Matrix3d ClosestRotation(const Eigen::Matrix3d& M);
 
