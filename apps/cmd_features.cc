@@ -6,6 +6,7 @@
 #include "apps/commands.h"
 #include "apps/report_merge.h"
 #include "features/extract_features.h"
+#include "pgba/io/report.h"
 #include "pgba/util/timer.h"
 
 namespace pgba::app {
@@ -36,9 +37,12 @@ void RegisterFeatures(CLI::App& app) {
       ->capture_default_str();
   sub->add_flag("!--no-cache", args->options.use_cache, "recompute even where cached features exist");
   AddCommand(app, sub, [args] {
+    const CpuTimer cpu;
     const FeatureExtractionResult r = ExtractFeatures(args->images, args->calib, args->out, args->options);
     nlohmann::json record = FeatureExtractionRecord(r);
     record["seconds"] = r.seconds;
+    record["cpu_seconds"] = cpu.Seconds();
+    record["load_average"] = NumberOrNull(LoadAverage1Min());
     record["peak_rss_mb"] = PeakRssMb();
     record["options"] = args->options;
     MergeStageIntoReport((std::filesystem::path(args->out) / "report.json").string(), "features", record);

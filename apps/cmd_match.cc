@@ -12,6 +12,7 @@
 #include "pgba/io/colmap_database.h"
 #include "pgba/io/colmap_text.h"
 #include "pgba/util/logging.h"
+#include "pgba/io/report.h"
 #include "pgba/util/timer.h"
 
 namespace pgba::app {
@@ -62,10 +63,13 @@ void RegisterMatch(CLI::App& app) {
                     << args->database;
       return 0;
     }
+    const CpuTimer cpu;
     const MatchingResult r = MatchImages(args->out, args->options);
     WriteMatchingResult(args->out, r);
     nlohmann::json record = MatchingRecord(r);
     record["seconds"] = r.seconds;
+    record["cpu_seconds"] = cpu.Seconds();
+    record["load_average"] = NumberOrNull(LoadAverage1Min());
     record["peak_rss_mb"] = PeakRssMb();
     record["options"] = args->options;
     MergeStageIntoReport(report, "match", record);

@@ -4,9 +4,13 @@
 #   before   the front end of main 25ebad3: OpenCV SIFT, FLANN kd-forest (4 trees, 32 checks), no
 #            buffer reuse between images (features.reuse_buffers false)
 #   kdtree   today's defaults but the kd-forest instead of cascade hashing
-#   default  today's defaults (buffer reuse, cascade hashing, pgba's own SIFT)
+#   default  today's defaults (buffer reuse, cascade hashing, OpenCV's SIFT)
 #   opencv   defaults + features.sift.implementation "opencv" (OpenCV 4.6's SIFT, the
-#            default before pgba's own: the same algorithm, its pyramid on one thread)
+#            default: the same algorithm as pgba's, its pyramid on one thread)
+#   pgba     defaults + features.sift.implementation "pgba" (pgba's own SIFT, parallel
+#            inside one image, by default one image at a time)
+#   pgba2    pgba with two images in flight (features.max_parallel_images 2): each image's
+#            inner parallel loops, and the other image's work where a thread would wait
 #   octave0  defaults + features.sift.first_octave 0 (no upsampled octave: faster, fewer
 #            fine-scale keypoints; its accuracy cost is what this measures)
 # Each variant runs `pgba run --gt` from scratch (no feature cache); the variants of one
@@ -15,7 +19,10 @@
 # Prints one table: s per image and per megapixel for features, ms per pair for matching
 # (wall time over pairs, and the thread time of descriptor matching and verification per
 # pair), verified pairs and inliers, total time, and the rotation errors against the
-# ground truth.
+# ground truth. CPU time (user + system of every thread, report.json's cpu_seconds) per image
+# and per pair beside the wall times: on a shared machine the others' load stretches the wall
+# time, the CPU time far less. The issue's bars on 2 cores, <= 1 s per 6 MP image and <= 15 ms
+# per pair, are <= 2 s and <= 30 ms of CPU time when both cores work.
 #
 # A variant whose run fails (e.g. no triplet on a weakly textured ring) is reported with 0
 # registered images and the error; the table still shows its front-end numbers.
@@ -41,16 +48,22 @@ echo '{"matching": {"descriptors": {"method": "kdtree"}}}' >"$tmp/kdtree.json"
 echo '{"features": {"reuse_buffers": false, "sift": {"implementation": "opencv"}}, "matching": {"descriptors": {"method": "kdtree"}}}' >"$tmp/before.json"
 echo '{}' >"$tmp/default.json"
 echo '{"features": {"sift": {"implementation": "opencv"}}}' >"$tmp/opencv.json"
+echo '{"features": {"sift": {"implementation": "pgba"}}}' >"$tmp/pgba.json"
+echo '{"features": {"max_parallel_images": 2, "sift": {"implementation": "pgba"}}}' >"$tmp/pgba2.json"
 echo '{"features": {"sift": {"first_octave": 0}}}' >"$tmp/octave0.json"
 cp "$tmp/default.json" "$tmp/base.json"
 
 run_variant() {  # DATASET VARIANT ROUND
   local ds=$1 v=$2 round=$3 bin=$PGBA
   [[ $v == base ]] && bin=$PGBA_BASE
-  [[ -f "$tmp/$v.json" ]] || { echo "error: unknown variant '$v' (before, kdtree, default, opencv, octave0)" >&2; exit 2; }
+  [[ -f "$tmp/$v.json" ]] || { echo "error: unknown variant '$v' (before, kdtree, default, opencv, pgba, pgba2, octave0)" >&2; exit 2; }
   local out="$tmp/$(basename "$ds")_${v}_$round"
-  "$bin" -v 0 run --images "$ds/images" --calib "$ds/cameras.txt" --gt "$ds/gt" --config "$tmp/$v.json" \
-    --out "$out" >"$out.log" 2>&1 || { echo "warning: $v on $(basename "$ds") failed: $(grep -m1 error "$out.log")" >&2; }
+  # The whole process' wall and CPU time (any build, also one from before report.json had
+  # cpu_seconds), and the load average after the run.
+  /usr/bin/time -f "%e %U %S" -o "$out.time" "$bin" -v 0 run --images "$ds/images" --calib "$ds/cameras.txt" \
+    --gt "$ds/gt" --config "$tmp/$v.json" --out "$out" >"$out.log" 2>&1 ||
+    { echo "warning: $v on $(basename "$ds") failed: $(grep -m1 error "$out.log")" >&2; }
+  cut -d' ' -f1 /proc/loadavg >"$out.load"
 }
 
 for ds in "$@"; do
@@ -69,9 +82,10 @@ import json, os, sys
 tmp, repeat = sys.argv[1], int(sys.argv[2])
 sep = sys.argv.index("--")
 variants, datasets = sys.argv[3:sep], sys.argv[sep + 1:]
-print("dataset | variant | s/image features | s/MP features | ms/pair matching (wall) | ms/pair descriptors (thread) "
-      "| ms/pair verification (thread) | verified pairs | verified matches | total s | registered | rot err median deg | rot err max deg")
-print("|".join(["---"] * 13))
+print("dataset | variant | s/image features | CPU s/image features | s/MP features | ms/pair matching (wall) "
+      "| CPU ms/pair matching | CPU ms/pair descriptors | CPU ms/pair verification | verified pairs | verified matches "
+      "| total s | process wall s | process CPU s | load after | registered | rot err median deg | rot err max deg")
+print("|".join(["---"] * 18))
 for ds in datasets:
     name = os.path.basename(ds.rstrip("/"))
     for v in variants:
@@ -83,12 +97,20 @@ for ds in datasets:
         if failed:
             e0 = {"images_registered": f"0 ({failed[0][:60]})"}
         total = mean(lambda x: sum(s.get("seconds", 0) for s in st(x).values() if isinstance(s, dict)))
+        proc = [list(map(float, open(f"{tmp}/{name}_{v}_{r}.time").read().split()[-3:])) for r in range(1, repeat + 1)]
+        wall = sum(p[0] for p in proc) / repeat
+        cpu = sum(p[1] + p[2] for p in proc) / repeat
+        loads = "/".join(open(f"{tmp}/{name}_{v}_{r}.load").read().strip() for r in range(1, repeat + 1))
+        nan = float("nan")
         print(f"{name} | {v} | {mean(lambda x: st(x)['features']['seconds']) / f0['images']:.2f} | "
+              f"{mean(lambda x: st(x)['features'].get('cpu_seconds', nan)) / f0['images']:.2f} | "
               f"{mean(lambda x: st(x)['features']['seconds_per_megapixel']):.3f} | "
               f"{1000 * mean(lambda x: st(x)['match']['seconds_per_pair']):.1f} | "
-              f"{1000 * mean(lambda x: st(x)['match'].get('thread_seconds_per_pair_descriptors', float('nan'))):.1f} | "
-              f"{1000 * mean(lambda x: st(x)['match'].get('thread_seconds_per_pair_verification', float('nan'))):.1f} | "
-              f"{m0['pairs_verified']}/{m0['pairs']} | {m0['verified_matches']} | {total:.1f} | "
+              f"{1000 * mean(lambda x: st(x)['match'].get('cpu_seconds_per_pair', nan)):.1f} | "
+              f"{1000 * mean(lambda x: st(x)['match'].get('cpu_seconds_per_pair_descriptors', nan)):.1f} | "
+              f"{1000 * mean(lambda x: st(x)['match'].get('cpu_seconds_per_pair_verification', nan)):.1f} | "
+              f"{m0['pairs_verified']}/{m0['pairs']} | {m0['verified_matches']} | {total:.1f} | {wall:.1f} | {cpu:.1f} | "
+              f"{loads} | "
               f"{e0.get('images_registered', '?')}/{f0['images']} | {e0.get('rot_err_deg_median', float('nan')):.4f} | "
               f"{e0.get('rot_err_deg_max', float('nan')):.4f}")
 PY

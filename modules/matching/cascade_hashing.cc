@@ -34,10 +34,6 @@ inline int SquaredL2(const uint8_t* a, const uint8_t* b) {
   return s;
 }
 
-inline int HammingDistance(const uint64_t* a, const uint64_t* b) {
-  return __builtin_popcountll(a[0] ^ b[0]) + __builtin_popcountll(a[1] ^ b[1]);
-}
-
 // Signs of every projection of every centred descriptor: bit k of row i is set when
 // projection k of descriptor i is positive.
 PGBA_SIMD_CLONES
@@ -64,22 +60,27 @@ void ProjectionSigns(const cv::Mat& descriptors, const std::vector<int16_t>& mea
 // collected), since a general selection over the ~200 candidates of each query was a third
 // of all matching time (perf, fountain_p11). Keys at the cut-off distance are taken by
 // increasing index, as the key order does.
-size_t SelectSmallest(size_t k, const uint16_t* hist, std::vector<uint64_t>* candidates, std::vector<uint64_t>* ties) {
-  std::vector<uint64_t>& c = *candidates;
-  if (c.size() <= k) return c.size();
+size_t SelectSmallest(size_t k, const uint16_t* hist, uint64_t* c, size_t size, std::vector<uint64_t>* ties) {
+  if (size <= k) return size;
   size_t below = 0;  // keys with a distance under the cut-off
   uint64_t cut = 0;
   while (below + hist[cut] < k) below += hist[cut++];
-  ties->clear();
-  size_t n = 0;
-  for (uint64_t key : c) {
+  // Both lists compacted without branches (whether a key is kept is data-dependent, a
+  // branch on it mispredicted often enough to make this loop a tenth of the search).
+  ties->resize(size);
+  uint64_t* t = ties->data();
+  size_t n = 0, num_ties = 0;
+  for (size_t m = 0; m < size; ++m) {
+    const uint64_t key = c[m];
     const uint64_t d = key >> 32;
-    if (d < cut) c[n++] = key;
-    else if (d == cut) ties->push_back(key);
+    c[n] = key;
+    n += d < cut;
+    t[num_ties] = key;
+    num_ties += d == cut;
   }
   const size_t from_ties = k - below;
-  if (ties->size() > from_ties) std::nth_element(ties->begin(), ties->begin() + from_ties, ties->end());
-  std::copy(ties->begin(), ties->begin() + from_ties, c.begin() + n);
+  if (num_ties > from_ties) std::nth_element(t, t + from_ties, t + num_ties);
+  std::copy(t, t + from_ties, c + n);
   return k;
 }
 
@@ -190,34 +191,49 @@ void HashedDescriptors::SearchBestTwo(const HashedDescriptors& queries, const st
   // features) stay in L1, where an int per descriptor (32 KiB) missed it on every lookup.
   // Cleared after each query through its candidates (the words they set), not as a whole.
   std::vector<uint64_t> seen((static_cast<size_t>(n) + 63) / 64, 0);
-  // Candidates as (Hamming distance << 32 | index): sorting them ranks by distance, ties by index.
-  std::vector<uint64_t> candidates;
-  candidates.reserve(static_cast<size_t>(num_tables_) * 64);
+  // Candidates as (Hamming distance << 32 | index): sorting them ranks by distance, ties by
+  // index. Written through a raw pointer into a buffer sized for the query's buckets (the
+  // capacity check of push_back and the spilled loop state cost a quarter of the loop).
+  std::vector<uint64_t> candidates(static_cast<size_t>(num_tables_) * 64);
   std::vector<uint64_t> ties;
   uint16_t hist[kCodeBits + 1];
+  uint64_t* const seen_words = seen.data();
   for (int q = 0; q < num_queries; ++q) {
     const int i = rows ? (*rows)[q] : q;
     const uint64_t* code = &queries.codes_[2 * static_cast<size_t>(i)];
-    candidates.clear();
+    const uint64_t c0 = code[0], c1 = code[1];
+    const uint16_t* query_buckets = &queries.bucket_of_[static_cast<size_t>(i) * num_tables_];
+    size_t most = 0;  // candidates at most: the sizes of the query's buckets
+    for (int t = 0; t < num_tables_; ++t) {
+      const int* start = &bucket_start_[static_cast<size_t>(t) * (num_buckets_ + 1)];
+      const int key = query_buckets[t] & mask;
+      most += static_cast<size_t>(start[key + 1] - start[key]);
+    }
+    if (candidates.size() < most) candidates.resize(most);
+    uint64_t* out = candidates.data();
+    size_t count = 0;
     std::fill(hist, hist + kCodeBits + 1, 0);
     for (int t = 0; t < num_tables_; ++t) {
-      const int key = queries.bucket_of_[static_cast<size_t>(i) * num_tables_ + t] & mask;
+      const int key = query_buckets[t] & mask;
       const int* start = &bucket_start_[static_cast<size_t>(t) * (num_buckets_ + 1)];
       const int* members = &bucket_members_[static_cast<size_t>(t) * n];
       const uint64_t* member_codes = &bucket_codes_[2 * static_cast<size_t>(t) * n];
-      for (int m = start[key]; m < start[key + 1]; ++m) {
+      const int end = start[key + 1];
+      for (int m = start[key]; m < end; ++m) {
+        // Without a branch on whether j was seen (a duplicate is written and not counted).
         const int j = members[m];
-        uint64_t& word = seen[j >> 6];
-        const uint64_t bit = uint64_t(1) << (j & 63);
-        if (word & bit) continue;
-        word |= bit;
-        const int d = HammingDistance(code, &member_codes[2 * static_cast<size_t>(m)]);
-        ++hist[d];
-        candidates.push_back(uint64_t(d) << 32 | uint32_t(j));
+        const uint64_t word = seen_words[j >> 6];
+        const uint64_t fresh = ((word >> (j & 63)) & 1) ^ 1;
+        seen_words[j >> 6] = word | uint64_t(1) << (j & 63);
+        const uint64_t d = static_cast<uint64_t>(__builtin_popcountll(c0 ^ member_codes[2 * static_cast<size_t>(m)]) +
+                                                 __builtin_popcountll(c1 ^ member_codes[2 * static_cast<size_t>(m) + 1]));
+        hist[d] = static_cast<uint16_t>(hist[d] + fresh);
+        out[count] = d << 32 | uint32_t(j);
+        count += fresh;
       }
     }
-    for (uint64_t key : candidates) seen[(key & 0xffffffffu) >> 6] = 0;
-    const size_t k = SelectSmallest(num_reranked_, hist, &candidates, &ties);
+    for (size_t c = 0; c < count; ++c) seen_words[(out[c] & 0xffffffffu) >> 6] = 0;
+    const size_t k = SelectSmallest(num_reranked_, hist, out, count, &ties);
     // The reranked rows are scattered over the image's descriptors (1 MiB at 8192): their
     // loads are issued together before the distances need them.
     for (size_t c = 0; c < k; ++c) {

@@ -18,6 +18,7 @@
 #include "pgba/util/logging.h"
 #include "pgba/util/progress.h"
 #include "pgba/util/text_format.h"
+#include "pgba/util/cpu_time.h"
 #include "pgba/util/timer.h"
 
 namespace pgba {
@@ -92,8 +93,10 @@ MatchingResult MatchImages(const std::string& workspace, const MatchingOptions& 
   std::vector<PairCheck> checks(pairs.size());
   // Thread time of each pair's two steps, to report where the matching time goes.
   std::vector<double> seconds_descriptors(pairs.size(), 0.0), seconds_verification(pairs.size(), 0.0);
+  std::vector<double> cpu_descriptors(pairs.size(), 0.0), cpu_verification(pairs.size(), 0.0);
 
   Timer match_timer;
+  CpuTimer match_cpu;
   // One set of random projections for the run, centred on the run's mean descriptor, so
   // that every image's codes are made once and compare with every other image's.
   std::unique_ptr<CascadeHasher> hasher;
@@ -122,20 +125,25 @@ MatchingResult MatchImages(const std::string& workspace, const MatchingOptions& 
       const auto [i, j] = chunk[c];
       const size_t slot = slot_of.at(chunk[c]);
       Timer pair_timer;
+      const double cpu0 = ThreadCpuSeconds();
       const auto matches = MatchDescriptors(*forests.at(i), *forests.at(j), options.descriptors);
       seconds_descriptors[slot] = pair_timer.Seconds();
+      const double cpu1 = ThreadCpuSeconds();
+      cpu_descriptors[slot] = cpu1 - cpu0;
       const IndexedImage& a = index.images[i];
       const IndexedImage& b = index.images[j];
       verified[slot] = VerifyPair(a.image_id, index.cameras.at(a.camera_id), features[i], b.image_id,
                                   index.cameras.at(b.camera_id), features[j], matches, options.verification,
                                   std::max(a.detection_scale, b.detection_scale), &checks[slot]);
       seconds_verification[slot] = pair_timer.Seconds() - seconds_descriptors[slot];
+      cpu_verification[slot] = ThreadCpuSeconds() - cpu1;
       progress.Increment();
     });
   }
   progress.Finish();
   forests.clear();
   result.seconds_matching = match_timer.Seconds();
+  result.cpu_seconds_matching = match_cpu.Seconds();
 
   // Tracks over the verified inliers, in pair order.
   std::vector<KeypointImage> images(n);
@@ -149,6 +157,8 @@ MatchingResult MatchImages(const std::string& workspace, const MatchingOptions& 
   for (size_t k = 0; k < pairs.size(); ++k) {
     result.thread_seconds_descriptors += seconds_descriptors[k];
     result.thread_seconds_verification += seconds_verification[k];
+    result.cpu_seconds_descriptors += cpu_descriptors[k];
+    result.cpu_seconds_verification += cpu_verification[k];
     result.num_putative += checks[k].putative;
     result.pair_outcomes.push_back({index.images[pairs[k].first].name, index.images[pairs[k].second].name, checks[k]});
     if (!verified[k]) continue;
@@ -210,10 +220,14 @@ nlohmann::json MatchingRecord(const MatchingResult& r) {
   record["putative_matches"] = r.num_putative;
   record["verified_matches"] = r.num_verified_matches;
   record["seconds_matching"] = r.seconds_matching;
+  record["cpu_seconds_matching"] = r.cpu_seconds_matching;
   if (r.num_pairs > 0) {
     record["seconds_per_pair"] = r.seconds_matching / r.num_pairs;
     record["thread_seconds_per_pair_descriptors"] = r.thread_seconds_descriptors / r.num_pairs;
     record["thread_seconds_per_pair_verification"] = r.thread_seconds_verification / r.num_pairs;
+    record["cpu_seconds_per_pair"] = r.cpu_seconds_matching / r.num_pairs;
+    record["cpu_seconds_per_pair_descriptors"] = r.cpu_seconds_descriptors / r.num_pairs;
+    record["cpu_seconds_per_pair_verification"] = r.cpu_seconds_verification / r.num_pairs;
   }
   record["descriptor_method"] = r.descriptor_method;
   record["images_without_tracks"] = r.images_without_tracks;

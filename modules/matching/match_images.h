@@ -53,6 +53,12 @@ struct MatchingResult {
   // Thread time summed over pairs (excluding building the per-image search structures).
   double thread_seconds_descriptors = 0.0;
   double thread_seconds_verification = 0.0;
+  // CPU time (user + system) of the same: the process' over the pair loop, and each pair's
+  // thread's over its two steps (a shared machine's load stretches the wall times above,
+  // hardly these).
+  double cpu_seconds_matching = 0.0;
+  double cpu_seconds_descriptors = 0.0;
+  double cpu_seconds_verification = 0.0;
   std::string descriptor_method;
 };
 

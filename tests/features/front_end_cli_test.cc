@@ -58,9 +58,17 @@ TEST_F(FrontEndCli, SkipsUnusableFilesWithAWarningNamingEach) {
   EXPECT_EQ(report["stages"]["features"]["images"], 3);
   EXPECT_EQ(report["stages"]["features"]["images_skipped"].size(), 4u);
   EXPECT_GT(report["stages"]["features"]["seconds_per_megapixel"].get<double>(), 0.0);
+  EXPECT_GT(report["stages"]["features"]["cpu_seconds"].get<double>(), 0.0);
   // Matching goes on with the three good images.
   const CliResult m = RunPgba("match --out " + (root_ / "ws").string());
   EXPECT_EQ(m.code, 0) << m.output;
+  // The pairs' threads' CPU time (descriptors, verification) is part of the process' CPU
+  // time over the pair loop (two clocks: per thread and getrusage; 1 ms for their rounding).
+  const nlohmann::json match = nlohmann::json::parse(std::ifstream(root_ / "ws" / "report.json"))["stages"]["match"];
+  const double per_pair = match["cpu_seconds_per_pair"].get<double>();
+  const double descriptors = match["cpu_seconds_per_pair_descriptors"].get<double>();
+  EXPECT_GT(descriptors, 0.0);
+  EXPECT_GE(per_pair + 1e-3, descriptors + match["cpu_seconds_per_pair_verification"].get<double>());
 }
 
 TEST_F(FrontEndCli, FatalInputsGiveOneLineErrors) {

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "pgba/io/report.h"
+#include "pgba/util/cpu_time.h"
 
 namespace pgba {
 namespace {
@@ -35,6 +36,7 @@ TEST(Report, StagesAndAtomicWrite) {
   EXPECT_EQ(j["stages"]["averaging"]["order"].get<int>(), 1);
   report.AddStage("triplets", 1.0);  // re-recorded: keeps its place
   EXPECT_EQ(report.json()["stages"]["triplets"]["order"].get<int>(), 0);
+  EXPECT_FALSE(report.json()["stages"]["triplets"].contains("cpu_seconds"));  // given no CPU time
 
   const fs::path path = dir / "out" / "report.json";
   report.Write(path.string());
@@ -49,6 +51,30 @@ TEST(Report, StagesAndAtomicWrite) {
   EXPECT_EQ(nlohmann::json::parse(std::ifstream(path)), back);
   EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 2);
   fs::remove_all(dir);
+}
+
+// A stage's CPU time is the process' user + system time over it (getrusage), not its wall
+// time: a sleeping stage costs none, a stage that computes for 0.2 s of this thread's CPU
+// time (another clock, CLOCK_THREAD_CPUTIME_ID) costs at least that, however long the
+// machine's load made it in wall time.
+TEST(Report, StagesRecordTheirCpuTimeAndTheLoad) {
+  Report report;
+  {
+    StageTimer t(&report, "sleeping");
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  {
+    StageTimer t(&report, "computing");
+    const double start = ThreadCpuSeconds();
+    volatile double x = 0;
+    while (ThreadCpuSeconds() - start < 0.2) x = x + 1.0;
+  }
+  const nlohmann::json& st = report.json()["stages"];
+  EXPECT_GE(st["sleeping"]["seconds"].get<double>(), 0.095);
+  EXPECT_LT(st["sleeping"]["cpu_seconds"].get<double>(), 0.03);
+  EXPECT_GE(st["computing"]["cpu_seconds"].get<double>(), 0.19);
+  EXPECT_GE(st["computing"]["seconds"].get<double>(), 0.19);  // one thread: wall >= its CPU time
+  EXPECT_GE(st["computing"]["load_average"].get<double>(), 0.0);
 }
 
 }  // namespace

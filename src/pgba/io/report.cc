@@ -4,13 +4,17 @@
 
 namespace pgba {
 
-nlohmann::json& Report::AddStage(const std::string& name, double seconds) {
+nlohmann::json& Report::AddStage(const std::string& name, double seconds, double cpu_seconds) {
   nlohmann::json& stages = root_["stages"];
   if (stages.is_null()) stages = nlohmann::json::object();
   const size_t order = stages.contains(name) ? stages[name].value("order", stages.size()) : stages.size();
   nlohmann::json& stage = stages[name];
   stage = nlohmann::json::object();
   stage["seconds"] = seconds;
+  if (cpu_seconds >= 0) {
+    stage["cpu_seconds"] = cpu_seconds;
+    stage["load_average"] = NumberOrNull(LoadAverage1Min());
+  }
   stage["peak_rss_mb"] = PeakRssMb();
   stage["order"] = order;
   return stage;
@@ -20,7 +24,7 @@ void Report::Write(const std::string& path) const { WriteStringAtomically(path, 
 
 nlohmann::json& StageTimer::Stop() {
   stopped_ = true;
-  return report_->AddStage(name_, timer_.Seconds());
+  return report_->AddStage(name_, timer_.Seconds(), cpu_timer_.Seconds());
 }
 
 }  // namespace pgba

@@ -1,8 +1,11 @@
 // report.json of `init` / `reconstruct` / `run` (ARCHITECTURE.md, "Report keys"):
-//   {"stages": {NAME: {"seconds": s, "peak_rss_mb": m, "order": k, ...stage extras}},
+//   {"stages": {NAME: {"seconds": s, "cpu_seconds": c, "load_average": l, "peak_rss_mb": m,
+//                      "order": k, ...stage extras}},
 //    "images_registered": n, "images_dropped": [names], ...}
-// A thin layer over nlohmann::json: stages record their wall time and the process' peak
-// memory; everything else is free-form. Written atomically, so a crashed run never leaves
+// A thin layer over nlohmann::json: stages record their wall time, the process' CPU time
+// over the stage (user + system of every thread: on a shared machine the wall time grows
+// with the others' load, the CPU time hardly), the 1-minute load average at its end and the
+// process' peak memory; everything else is free-form. Written atomically, so a crashed run never leaves
 // a truncated report behind.
 #pragma once
 
@@ -10,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "pgba/util/cpu_time.h"
 #include "pgba/util/timer.h"
 
 namespace pgba {
@@ -29,7 +33,8 @@ class Report {
   // Records stage `name` (replacing an earlier record of the same name) with its seconds,
   // the peak RSS so far and its position in the run ("order", since JSON objects are
   // unordered); returns the stage object for extra fields.
-  nlohmann::json& AddStage(const std::string& name, double seconds);
+  // `cpu_seconds` < 0: not measured (no key).
+  nlohmann::json& AddStage(const std::string& name, double seconds, double cpu_seconds = -1.0);
 
   // Pretty-printed, atomically (InputError/runtime_error if the path is not writable).
   void Write(const std::string& path) const;
@@ -54,6 +59,7 @@ class StageTimer {
   Report* report_;
   std::string name_;
   Timer timer_;
+  CpuTimer cpu_timer_;
   bool stopped_ = false;
 };
 
