@@ -79,8 +79,8 @@ std::vector<PairEstimate> KeptPairs(const std::vector<std::optional<VerifiedPair
 // Weak pairs (verdict "weak") become "confirmed" when a triangle confirms them
 // (triplet_confirmation.h), "leaf" when kept as an image's only link, else "unconfirmed"
 // and dropped.
-void ConfirmWeakPairs(const TripletConfirmationOptions& options, std::vector<std::optional<VerifiedPair>>* verified,
-                      std::vector<PairCheck>* checks) {
+void SettleWeakPairs(const TripletConfirmationOptions& options, std::vector<std::optional<VerifiedPair>>* verified,
+                     std::vector<PairCheck>* checks) {
   std::vector<size_t> slot;
   const std::vector<PairEstimate> estimates = KeptPairs(*verified, *checks, &slot);
   const std::vector<int64_t> third = ConfirmWeakPairs(estimates, options);
@@ -106,10 +106,10 @@ void ConfirmWeakPairs(const TripletConfirmationOptions& options, std::vector<std
 
 // Matches transferred into third views (third_view_transfer.h) join the kept pairs' inliers.
 void TransferMatches(const FeatureIndex& index, const std::vector<FeatureSet>& features,
-                     const VerificationOptions& options, std::vector<std::optional<VerifiedPair>>* verified,
-                     std::vector<PairCheck>* checks) {
+                     const VerificationOptions& options, const std::vector<PairCheck>& checks,
+                     std::vector<std::optional<VerifiedPair>>* verified) {
   std::vector<size_t> slot;
-  std::vector<PairEstimate> estimates = KeptPairs(*verified, *checks, &slot);
+  std::vector<PairEstimate> estimates = KeptPairs(*verified, checks, &slot);
   std::vector<std::vector<Eigen::Vector3d>> bearings(index.images.size());
   std::map<uint32_t, TransferView> views;
   double focal = 0.0, detection_scale = 1.0;
@@ -126,8 +126,7 @@ void TransferMatches(const FeatureIndex& index, const std::vector<FeatureSet>& f
   const std::vector<int> added = TransferIntoThirdViews(&estimates, views, focal, guided);
   int total = 0;
   for (size_t e = 0; e < estimates.size(); ++e) {
-    (*verified)[slot[e]]->inlier_matches = estimates[e].matches;
-    (*checks)[slot[e]].transferred = added[e];
+    (*verified)[slot[e]]->inlier_matches = std::move(estimates[e].matches);
     total += added[e];
   }
   PGBA_LOG_INFO << "matching: " << total << " matches transferred into third views";
@@ -210,8 +209,8 @@ MatchingResult MatchImages(const std::string& workspace, const MatchingOptions& 
   }
   progress.Finish();
   forests.clear();
-  if (options.verification.weak_pairs.enabled) ConfirmWeakPairs(options.verification.weak_pairs, &verified, &checks);
-  if (options.verification.guided.transfer) TransferMatches(index, features, options.verification, &verified, &checks);
+  if (options.verification.weak_pairs.enabled) SettleWeakPairs(options.verification.weak_pairs, &verified, &checks);
+  if (options.verification.guided.transfer) TransferMatches(index, features, options.verification, checks, &verified);
   result.seconds_matching = match_timer.Seconds();
 
   // Tracks over the verified inliers, in pair order.

@@ -73,7 +73,6 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(VerificationOptions, relative_po
 struct PairCheck {
   int putative = 0;
   int guided = 0;   // matches guided matching added to the putative inliers (0 when not run)
-  int transferred = 0;  // matches added by transfer from triangles (guided.transfer)
   int inliers = 0;  // of the final RANSAC + refinement (0 when RANSAC did not run or failed)
   double rotation_sd_deg = 0.0;
   double median_triangulation_angle_deg = 0.0;
