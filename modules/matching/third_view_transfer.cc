@@ -14,13 +14,7 @@ struct Partners {
 };
 
 Partners PartnersOf(const PairEstimate& p, uint32_t x) {
-  Partners m;
-  for (const auto& [a, b] : p.matches) {
-    const uint32_t fx = p.image1 == x ? a : b, fz = p.image1 == x ? b : a;
-    m.of_x.emplace(fx, fz);
-    m.of_z.emplace(fz, fx);
-  }
-  return m;
+  return {PairPartnersFrom(p, x), PairPartnersFrom(p, p.image1 == x ? p.image2 : p.image1)};
 }
 
 void AddMatch(PairEstimate* p, uint32_t x, uint32_t fx, uint32_t fz) {

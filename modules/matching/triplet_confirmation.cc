@@ -27,19 +27,6 @@ bool SplitBaseline(const Eigen::Vector3d& d_ij, const Eigen::Vector3d& d_jk, con
   return true;
 }
 
-// Feature of image x -> its partner in the pair's other image.
-std::unordered_map<uint32_t, uint32_t> Partners(const PairEstimate& p, uint32_t x) {
-  std::unordered_map<uint32_t, uint32_t> m;
-  m.reserve(p.matches.size());
-  for (const auto& [a, b] : p.matches) {
-    if (p.image1 == x)
-      m.emplace(a, b);
-    else
-      m.emplace(b, a);
-  }
-  return m;
-}
-
 // Marks kLeafPair, for every image without a kept pair (verified: -2, confirmed: >= 0),
 // its unconfirmed weak pair with the most inliers (ties: the first) to an image with one.
 void KeepLeafPairs(const std::vector<PairEstimate>& pairs, std::vector<int64_t>* third) {
@@ -71,6 +58,18 @@ std::string TripletConfirmationOptions::Check() const {
   return "";
 }
 
+std::unordered_map<uint32_t, uint32_t> PairPartnersFrom(const PairEstimate& p, uint32_t x) {
+  std::unordered_map<uint32_t, uint32_t> m;
+  m.reserve(p.matches.size());
+  for (const auto& [a, b] : p.matches) {
+    if (p.image1 == x)
+      m.emplace(a, b);
+    else
+      m.emplace(b, a);
+  }
+  return m;
+}
+
 Eigen::Matrix3d PairRotationFrom(const PairEstimate& p, uint32_t x) {
   return p.image1 == x ? p.R_21 : Eigen::Matrix3d(p.R_21.transpose());
 }
@@ -96,7 +95,7 @@ TriangleTest TestTriangle(uint32_t i, uint32_t j, uint32_t k, const PairEstimate
   if (SplitBaseline(d_ij, d_jk, d_ik, &ab, &n) && ab(0) > 0 && ab(1) > 0)
     t.coplanarity_deg = std::asin(std::min(1.0, std::abs(n.dot(d_ik)))) * kDeg;
 
-  const auto i_to_k = Partners(ik, i), j_to_k = Partners(jk, j);
+  const auto i_to_k = PairPartnersFrom(ik, i), j_to_k = PairPartnersFrom(jk, j);
   for (const auto& [a, b] : ij.matches) {
     const uint32_t fi = ij.image1 == i ? a : b, fj = ij.image1 == i ? b : a;
     const auto ci = i_to_k.find(fi), cj = j_to_k.find(fj);

@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -104,5 +105,7 @@ bool FrameOfTriangle(uint32_t i, uint32_t j, uint32_t k, const PairEstimate& ij,
 // other image's centre in x's frame, for a pair stored either way round.
 Eigen::Matrix3d PairRotationFrom(const PairEstimate& p, uint32_t x);
 Eigen::Vector3d PairCentreDirectionFrom(const PairEstimate& p, uint32_t x);
+// Feature of image x -> its partner in the pair's other image.
+std::unordered_map<uint32_t, uint32_t> PairPartnersFrom(const PairEstimate& p, uint32_t x);
 
 }  // namespace pgba
