@@ -14,6 +14,8 @@ Pure Python (no numpy) so that it runs wherever bench/ does.
 import math
 import sys
 
+KEPT = ('verified', 'confirmed', 'leaf')  # verdicts of the pairs the matching stage keeps
+
 
 def quat_to_R(w, x, y, z):
     n = math.sqrt(w * w + x * x + y * y + z * z)
@@ -86,15 +88,19 @@ def main():
     print('%-4s %-16s %-16s %7s %-18s %6s %6s %9s %8s' %
           ('step', 'image1', 'image2', 'gt_deg', 'verdict', 'put', 'inl', 'rot_sd', 'rot_err'))
     for r in rows:
-        if show_all or r[0] <= 3 or r[4] == 'verified':
+        if show_all or r[0] <= 3 or r[4] in KEPT:
             print('%-4d %-16s %-16s %7.1f %-18s %6d %6d %9s %8s' % r)
-    print('\nstep  pairs  verified  median_putative  median_inliers')
+    print('\nstep  pairs  kept  median_putative  median_inliers  kept_rot_err_median  kept_rot_err_max')
     for s in sorted(set(r[0] for r in rows)):
         sel = [r for r in rows if r[0] == s]
-        ver = [r for r in sel if r[4] == 'verified']
+        ver = [r for r in sel if r[4] in KEPT]
         put = sorted(r[5] for r in sel)
         inl = sorted(r[6] for r in sel)
-        print('%4d  %5d  %8d  %15d  %14d' % (s, len(sel), len(ver), put[len(put) // 2], inl[len(inl) // 2]))
+        errs = sorted(float(r[8]) for r in ver if r[8])
+        med = '%.3f' % errs[len(errs) // 2] if errs else '-'
+        mx = '%.3f' % errs[-1] if errs else '-'
+        print('%4d  %5d  %4d  %15d  %14d  %19s  %16s' % (s, len(sel), len(ver), put[len(put) // 2], inl[len(inl) // 2],
+                                                    med, mx))
 
 
 if __name__ == '__main__':

@@ -196,7 +196,7 @@ std::string RunReportHtml(const HtmlReportInput& in) {
     h << "<h2>View graph</h2><p>" << in.view_graph->edges.size() << " verified pairs; images 1 ("
       << XmlEscape(im.front().name) << ") to " << im.size() << " (" << XmlEscape(im.back().name)
       << ") in name order, hollow red: not registered (hover for names and inliers)</p>\n"
-      << ViewGraphSvg(*in.view_graph);
+      << ViewGraphSvg(*in.view_graph) << ViewGraphTable(*in.view_graph);
   }
   h << "<h2>Files</h2><ul><li><code>sparse/</code>: COLMAP text model</li><li><code>points.ply</code></li>"
        "<li><code>report.json</code>: every stage's record</li><li><code>log.txt</code></li></ul>\n";

@@ -63,4 +63,29 @@ std::string ViewGraphSvg(const ViewGraphPicture& g, int size) {
   return svg.str();
 }
 
+std::string ViewGraphTable(const ViewGraphPicture& g) {
+  const int n = static_cast<int>(g.images.size());
+  std::vector<std::map<int, int>> links(n);  // image -> (neighbour -> inliers), by neighbour
+  for (const auto& e : g.edges) {
+    if (e.a < 0 || e.b < 0 || e.a >= n || e.b >= n) continue;
+    links[e.a][e.b] = e.inliers;
+    links[e.b][e.a] = e.inliers;
+  }
+  std::ostringstream h;
+  h << "<table><tr><th>#</th><th>image</th><th>registered</th><th>connected to (inliers)</th></tr>\n";
+  for (int i = 0; i < n; ++i) {
+    h << "<tr><td>" << i + 1 << "</td><td>" << XmlEscape(g.images[i].name) << "</td><td>"
+      << (g.images[i].registered ? "yes" : "<b>no</b>") << "</td><td>";
+    if (links[i].empty()) h << "<b>none</b>";
+    const char* sep = "";
+    for (const auto& [j, inliers] : links[i]) {
+      h << sep << j + 1 << " (" << inliers << ")";
+      sep = ", ";
+    }
+    h << "</td></tr>\n";
+  }
+  h << "</table>\n";
+  return h.str();
+}
+
 }  // namespace pgba

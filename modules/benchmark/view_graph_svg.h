@@ -33,4 +33,8 @@ ViewGraphPicture MakeViewGraphPicture(const Reconstruction& tracks, const std::v
 
 std::string ViewGraphSvg(const ViewGraphPicture& graph, int size = 420);
 
+// The same graph in words, an HTML table: per image (numbered as in the picture), whether it
+// is registered and the images it is connected to, each with its pair's inliers.
+std::string ViewGraphTable(const ViewGraphPicture& graph);
+
 }  // namespace pgba

@@ -7,9 +7,8 @@
 #include "matching/relative_pose.h"
 
 namespace pgba {
-namespace {
 
-float L2(const uint8_t* a, const uint8_t* b) {
+float SiftDistance(const uint8_t* a, const uint8_t* b) {
   int s = 0;
   for (int k = 0; k < kSiftDescriptorSize; ++k) {
     const int d = int(a[k]) - int(b[k]);
@@ -18,22 +17,19 @@ float L2(const uint8_t* a, const uint8_t* b) {
   return std::sqrt(static_cast<float>(s));
 }
 
-struct Best {
-  int index = -1;
-  float best = std::numeric_limits<float>::infinity();
-  float second = std::numeric_limits<float>::infinity();
-  void Offer(int k, float d) {
-    if (d < best) {
-      second = best;
-      best = d;
-      index = k;
-    } else if (d < second) {
-      second = d;
-    }
+void NearestTwo::Offer(int k, float d) {
+  if (d < best) {
+    second = best;
+    best = d;
+    index = k;
+  } else if (d < second) {
+    second = d;
   }
-};
+}
 
-}  // namespace
+bool NearestTwo::Passes(const GuidedMatchingOptions& options) const {
+  return index >= 0 && best <= static_cast<float>(options.max_distance * 512.0) && best < options.max_ratio * second;
+}
 
 std::string GuidedMatchingOptions::Check() const {
   if (min_inliers > max_inliers) return "min_inliers: must not exceed max_inliers";
@@ -50,23 +46,21 @@ std::vector<std::pair<uint32_t, uint32_t>> GuidedMatches(const Eigen::Matrix3d& 
   const int n1 = static_cast<int>(bearings1.size()), n2 = static_cast<int>(bearings2.size());
   // Forward: best of each i over the band; backward: best of each j. A pair is kept when
   // each is the other's best and the forward best passes the ratio test.
-  std::vector<Best> forward(n1), backward(n2);
+  std::vector<NearestTwo> forward(n1), backward(n2);
   for (int i = 0; i < n1; ++i) {
     const uint8_t* d1 = descriptors1.ptr<uint8_t>(i);
     for (int j = 0; j < n2; ++j) {
       if (!(std::abs(SampsonAngle(R_21, t_21, bearings1[i], bearings2[j])) < angle)) continue;
       if (!InFrontOfBoth(R_21, t_21, bearings1[i], bearings2[j], angle)) continue;
-      const float d = L2(d1, descriptors2.ptr<uint8_t>(j));
+      const float d = SiftDistance(d1, descriptors2.ptr<uint8_t>(j));
       forward[i].Offer(j, d);
       backward[j].Offer(i, d);
     }
   }
-  const float max_dist = static_cast<float>(options.max_distance * 512.0);
   std::vector<std::pair<uint32_t, uint32_t>> matches;
   for (int i = 0; i < n1; ++i) {
-    const Best& f = forward[i];
-    if (f.index < 0 || f.best > max_dist || !(f.best < options.max_ratio * f.second)) continue;
-    if (backward[f.index].index != i) continue;
+    const NearestTwo& f = forward[i];
+    if (!f.Passes(options) || backward[f.index].index != i) continue;
     matches.emplace_back(static_cast<uint32_t>(i), static_cast<uint32_t>(f.index));
   }
   return matches;

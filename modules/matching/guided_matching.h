@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <string>
@@ -35,12 +36,31 @@ struct GuidedMatchingOptions {
   // absolute bound on the best distance (x 512, as DescriptorMatchOptions::max_distance).
   double max_ratio = 0.9;
   double max_distance = 0.7;
+  // With triplets, transfer into the third view (third_view_transfer.h): after verification
+  // (and the weak pairs' confirmation), every triangle of kept pairs whose baselines close
+  // gives its pairs' matches a partner in the third view where one lies within threshold_px
+  // of the transferred point and passes the descriptor tests above. Independent of
+  // `enabled` (the pairwise guided matching).
+  bool transfer = false;
 
   // "" if valid, else "key: problem" (the key relative to the section).
   std::string Check() const;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(GuidedMatchingOptions, enabled, max_inliers, min_inliers,
-                                                threshold_px, max_ratio, max_distance)
+                                                threshold_px, max_ratio, max_distance, transfer)
+
+// L2 distance of two SIFT descriptors (kSiftDescriptorSize bytes each).
+float SiftDistance(const uint8_t* a, const uint8_t* b);
+
+// The nearest and second nearest descriptor among the candidates offered.
+struct NearestTwo {
+  int index = -1;
+  float best = std::numeric_limits<float>::infinity();
+  float second = std::numeric_limits<float>::infinity();
+  void Offer(int k, float d);
+  // A nearest within options.max_distance (x 512) and below max_ratio x the second.
+  bool Passes(const GuidedMatchingOptions& options) const;
+};
 
 // Mutual best matches (i in image 1, j in image 2) among the pairs within the epipolar band
 // of x_2 = R_21 x_1 + t_21 and in front of both cameras, sorted by i. `focal_px` converts

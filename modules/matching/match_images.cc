@@ -11,6 +11,7 @@
 
 #include "features/feature_file.h"
 #include "features/feature_index.h"
+#include "matching/third_view_transfer.h"
 #include "pgba/io/colmap_text.h"
 #include "pgba/io/two_view_geometries.h"
 #include "pgba/util/atomic_file.h"
@@ -61,6 +62,77 @@ std::map<std::pair<uint32_t, uint32_t>, int> CoVisibleTracks(const Reconstructio
   return count;
 }
 
+// The kept pairs (verified or weak) as the triangle stages see them, and their slots.
+std::vector<PairEstimate> KeptPairs(const std::vector<std::optional<VerifiedPair>>& verified,
+                                    const std::vector<PairCheck>& checks, std::vector<size_t>* slots) {
+  std::vector<PairEstimate> estimates;
+  slots->clear();
+  for (size_t k = 0; k < verified.size(); ++k) {
+    if (!verified[k]) continue;
+    const TwoViewGeometry& g = verified[k]->geometry;
+    estimates.push_back({g.image_id1, g.image_id2, g.R_21, g.t_21, verified[k]->inlier_matches,
+                         checks[k].verdict == "weak"});
+    slots->push_back(k);
+  }
+  return estimates;
+}
+
+// Weak pairs (verdict "weak") become "confirmed" when a triangle confirms them
+// (triplet_confirmation.h), "leaf" when kept as an image's only link, else "unconfirmed"
+// and dropped.
+void SettleWeakPairs(const TripletConfirmationOptions& options, std::vector<std::optional<VerifiedPair>>* verified,
+                     std::vector<PairCheck>* checks) {
+  std::vector<size_t> slot;
+  const std::vector<PairEstimate> estimates = KeptPairs(*verified, *checks, &slot);
+  const std::vector<int64_t> third = ConfirmWeakPairs(estimates, options);
+  int confirmed = 0, leaf = 0, weak = 0;
+  for (size_t e = 0; e < estimates.size(); ++e) {
+    if (!estimates[e].weak) continue;
+    ++weak;
+    PairCheck& c = (*checks)[slot[e]];
+    if (third[e] >= 0) {
+      c.verdict = "confirmed";
+      ++confirmed;
+    } else if (third[e] == kLeafPair) {
+      c.verdict = "leaf";
+      ++leaf;
+    } else {
+      c.verdict = "unconfirmed";
+      (*verified)[slot[e]].reset();
+    }
+  }
+  PGBA_LOG_INFO << "matching: " << confirmed << " of " << weak << " weak pairs confirmed by a third view, " << leaf
+                << " kept as an image's only link";
+}
+
+// Matches transferred into third views (third_view_transfer.h) join the kept pairs' inliers.
+void TransferMatches(const FeatureIndex& index, const std::vector<FeatureSet>& features,
+                     const VerificationOptions& options, const std::vector<PairCheck>& checks,
+                     std::vector<std::optional<VerifiedPair>>* verified) {
+  std::vector<size_t> slot;
+  std::vector<PairEstimate> estimates = KeptPairs(*verified, checks, &slot);
+  std::vector<std::vector<Eigen::Vector3d>> bearings(index.images.size());
+  std::map<uint32_t, TransferView> views;
+  double focal = 0.0, detection_scale = 1.0;
+  for (size_t i = 0; i < index.images.size(); ++i) {
+    const IndexedImage& im = index.images[i];
+    const Camera& camera = index.cameras.at(im.camera_id);
+    bearings[i] = KeypointBearings(camera, features[i].keypoints);
+    views[im.image_id] = {&bearings[i], &features[i].descriptors};
+    focal += camera.MeanFocal() / static_cast<double>(index.images.size());
+    detection_scale = std::max(detection_scale, im.detection_scale);
+  }
+  GuidedMatchingOptions guided = options.guided;
+  guided.threshold_px *= detection_scale;
+  const std::vector<int> added = TransferIntoThirdViews(&estimates, views, focal, guided);
+  int total = 0;
+  for (size_t e = 0; e < estimates.size(); ++e) {
+    (*verified)[slot[e]]->inlier_matches = std::move(estimates[e].matches);
+    total += added[e];
+  }
+  PGBA_LOG_INFO << "matching: " << total << " matches transferred into third views";
+}
+
 }  // namespace
 
 MatchingResult MatchImages(const std::string& workspace, const MatchingOptions& options) {
@@ -80,6 +152,8 @@ MatchingResult MatchImages(const std::string& workspace, const MatchingOptions& 
   ValidateDescriptorMatchOptions(options.descriptors);
   const std::string guided_problem = options.verification.guided.Check();
   if (!guided_problem.empty()) throw InputError("matching.verification.guided." + guided_problem);
+  const std::string weak_problem = options.verification.weak_pairs.Check();
+  if (!weak_problem.empty()) throw InputError("matching.verification.weak_pairs." + weak_problem);
   MatchingResult result;
   result.descriptor_method = options.descriptors.method;
   const std::vector<ImagePair> pairs = SelectPairs(descriptors, options.pairs);
@@ -142,6 +216,8 @@ MatchingResult MatchImages(const std::string& workspace, const MatchingOptions& 
   }
   progress.Finish();
   forests.clear();
+  if (options.verification.weak_pairs.enabled) SettleWeakPairs(options.verification.weak_pairs, &verified, &checks);
+  if (options.verification.guided.transfer) TransferMatches(index, features, options.verification, checks, &verified);
   result.seconds_matching = match_timer.Seconds();
   result.cpu_seconds_matching = match_cpu.Seconds();
 
@@ -196,7 +272,7 @@ void WriteMatchingResult(const std::string& workspace, const MatchingResult& res
   WriteTwoViewGeometries(result.two_view_geometries, (ws / "matching" / "two_view_geometries.txt").string());
   std::ostringstream table;
   table << "# Every selected pair's geometric verification (verdict: verified | few_matches | ransac_failed |\n"
-           "# few_inliers | low_inlier_ratio | uncertain_rotation)\n"
+           "# few_inliers | low_inlier_ratio | uncertain_rotation | confirmed | leaf | unconfirmed)\n"
            "# NAME1 NAME2 PUTATIVE INLIERS ROTATION_SD_DEG MEDIAN_TRIANGULATION_ANGLE_DEG VERDICT\n";
   for (const PairOutcome& p : result.pair_outcomes)
     table << p.name1 << " " << p.name2 << " " << p.check.putative << " " << p.check.inliers << " "

@@ -5,13 +5,6 @@
 namespace pgba {
 namespace {
 
-std::vector<Eigen::Vector3d> Bearings(const Camera& camera, const std::vector<Keypoint>& keypoints) {
-  std::vector<Eigen::Vector3d> b;
-  b.reserve(keypoints.size());
-  for (const Keypoint& k : keypoints) b.push_back(camera.PixelToBearing(Eigen::Vector2d(k.x, k.y)));
-  return b;
-}
-
 // The correspondences' bearings, in the order of `matches`.
 void MatchBearings(const std::vector<Eigen::Vector3d>& all1, const std::vector<Eigen::Vector3d>& all2,
                    const std::vector<std::pair<uint32_t, uint32_t>>& matches, std::vector<Eigen::Vector3d>* b1,
@@ -25,6 +18,13 @@ void MatchBearings(const std::vector<Eigen::Vector3d>& all1, const std::vector<E
 }
 
 }  // namespace
+
+std::vector<Eigen::Vector3d> KeypointBearings(const Camera& camera, const std::vector<Keypoint>& keypoints) {
+  std::vector<Eigen::Vector3d> b;
+  b.reserve(keypoints.size());
+  for (const Keypoint& k : keypoints) b.push_back(camera.PixelToBearing(Eigen::Vector2d(k.x, k.y)));
+  return b;
+}
 
 std::optional<VerifiedPair> VerifyPair(uint32_t image_id1, const Camera& camera1, const FeatureSet& features1,
                                        uint32_t image_id2, const Camera& camera2, const FeatureSet& features2,
@@ -40,13 +40,15 @@ std::optional<VerifiedPair> VerifyPair(uint32_t image_id1, const Camera& camera1
     return std::nullopt;
   };
   const GuidedMatchingOptions& guided = options.guided;
-  const int min_matches =
-      std::max(guided.enabled ? std::min(guided.min_inliers, options.relative_pose.min_inliers)
-                              : options.relative_pose.min_inliers,
-               5);
+  const TripletConfirmationOptions& weak = options.weak_pairs;
+  // The fewest inliers anything below may use: the guide's, or a weak pair's.
+  int fewest = options.relative_pose.min_inliers;
+  if (guided.enabled) fewest = std::min(fewest, guided.min_inliers);
+  if (weak.enabled) fewest = std::min(fewest, weak.min_inliers);
+  const int min_matches = std::max(fewest, 5);
   if (static_cast<int>(matches.size()) < min_matches) return reject("few_matches");
-  const std::vector<Eigen::Vector3d> all1 = Bearings(camera1, features1.keypoints);
-  const std::vector<Eigen::Vector3d> all2 = Bearings(camera2, features2.keypoints);
+  const std::vector<Eigen::Vector3d> all1 = KeypointBearings(camera1, features1.keypoints);
+  const std::vector<Eigen::Vector3d> all2 = KeypointBearings(camera2, features2.keypoints);
   std::vector<Eigen::Vector3d> b1, b2;
   MatchBearings(all1, all2, matches, &b1, &b2);
   RelativePoseOptions rp = options.relative_pose;
@@ -56,9 +58,10 @@ std::optional<VerifiedPair> VerifyPair(uint32_t image_id1, const Camera& camera1
   s = (s ^ (s >> 30)) * 0xBF58476D1CE4E5B9ULL;
   rp.seed = s ^ (s >> 31);
   const double focal = 0.5 * (camera1.MeanFocal() + camera2.MeanFocal());
-  // The guide may have fewer inliers than a verified pair needs: that is what it is for.
+  // The guide and a weak pair may have fewer inliers than a verified pair needs: that is
+  // what they are for.
   RelativePoseOptions first = rp;
-  if (guided.enabled) first.min_inliers = std::min(rp.min_inliers, guided.min_inliers);
+  first.min_inliers = fewest;
   RelativePoseResult pose = EstimateRelativePose(b1, b2, focal, first);
   if (pose.num_inliers == 0) {
     c.verdict = "ransac_failed";
@@ -101,9 +104,15 @@ std::optional<VerifiedPair> VerifyPair(uint32_t image_id1, const Camera& camera1
   c.inliers = pose.num_inliers;
   c.rotation_sd_deg = pose.rotation_sd_deg;
   c.median_triangulation_angle_deg = pose.median_triangulation_angle_deg;
-  if (pose.num_inliers < rp.min_inliers) return reject("few_inliers");
-  if (!(pose.rotation_sd_deg <= options.max_rotation_sd_deg)) return reject("uncertain_rotation");
-  c.verdict = "verified";
+  const bool few = pose.num_inliers < rp.min_inliers;
+  const bool uncertain = !(pose.rotation_sd_deg <= options.max_rotation_sd_deg);
+  if (few || uncertain) {
+    if (!weak.enabled || pose.num_inliers < weak.min_inliers || !(pose.rotation_sd_deg <= weak.max_rotation_sd_deg))
+      return reject(few ? "few_inliers" : "uncertain_rotation");
+    c.verdict = "weak";
+  } else {
+    c.verdict = "verified";
+  }
 
   VerifiedPair out;
   out.geometry.image_id1 = image_id1;

@@ -14,6 +14,7 @@
 #include "features/feature_set.h"
 #include "matching/guided_matching.h"
 #include "matching/relative_pose.h"
+#include "matching/triplet_confirmation.h"
 #include "pgba/scene/camera.h"
 #include "pgba/scene/view_graph.h"
 
@@ -59,9 +60,13 @@ struct VerificationOptions {
   // Weak pairs (guided_matching.h): more matches along the first estimate's epipolar
   // geometry, then the relative pose once more on them; the checks above apply to the result.
   GuidedMatchingOptions guided;
+  // Weak pairs (triplet_confirmation.h): a pair failing only the inlier count or the
+  // rotation bound above, within the looser bounds there, is kept when a third view
+  // confirms it once every pair is verified (MatchImages).
+  TripletConfirmationOptions weak_pairs;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(VerificationOptions, relative_pose, min_inlier_ratio,
-                                                max_rotation_sd_deg, guided)
+                                                max_rotation_sd_deg, guided, weak_pairs)
 
 // What verification found for one pair, verified or not: the per-pair table of the matching
 // stage (WS/matching/pairs.txt) that says where a weak image lost its pairs.
@@ -71,7 +76,9 @@ struct PairCheck {
   int inliers = 0;  // of the final RANSAC + refinement (0 when RANSAC did not run or failed)
   double rotation_sd_deg = 0.0;
   double median_triangulation_angle_deg = 0.0;
-  // verified | few_matches | ransac_failed | few_inliers | low_inlier_ratio | uncertain_rotation
+  // verified | few_matches | ransac_failed | few_inliers | low_inlier_ratio | uncertain_rotation,
+  // or, with weak_pairs enabled, weak (returned by VerifyPair), which MatchImages turns into
+  // confirmed or leaf (kept) or unconfirmed.
   std::string verdict;
 };
 
@@ -80,7 +87,11 @@ struct VerifiedPair {
   std::vector<std::pair<uint32_t, uint32_t>> inlier_matches;
 };
 
-// nullopt if the pair fails (too few matches or inliers, RANSAC failure). Keypoints are in
+// Undistorted unit bearings of keypoints (Camera::PixelToBearing), in their order.
+std::vector<Eigen::Vector3d> KeypointBearings(const Camera& camera, const std::vector<Keypoint>& keypoints);
+
+// nullopt if the pair fails (too few matches or inliers, RANSAC failure); a weak pair
+// (options.weak_pairs) is returned with the verdict "weak". Keypoints are in
 // full-resolution pixels (descriptors are read by guided matching only); `detection_scale` (full-resolution pixels per pixel of the image
 // SIFT ran on, the larger of the two images') scales the pixel threshold, since keypoint
 // noise is a fraction of a detection pixel.

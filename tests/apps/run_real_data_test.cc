@@ -48,9 +48,11 @@ TEST(RunRealData, TempleSparseRingEveryImageRegistered) {
 
 // Issue 18 on dino_sparse_ring (weakly textured plaster, ~230 SIFT features per image at the
 // fixed threshold, nothing registered before): the object_ring preset's adaptive contrast
-// threshold lowers the threshold of every image, the registered images (4 measured; README
-// "Weakly textured objects" says why not all 16) are within 0.3 deg of the ground truth,
-// and report.html shows the adapted images and the view graph.
+// threshold lowers the threshold of every image, weak pairs confirmed by a third view (and
+// kept as a chain end's only link) connect more images, the registered images (6 measured,
+// 4 without the weak pairs; README "Weakly textured objects" says why not all 16) are
+// within 0.3 deg of the ground truth, and report.html shows the adapted images and the view
+// graph, drawn and in words.
 TEST(RunRealData, DinoSparseRingAdaptiveContrastRegistersAccurately) {
   const fs::path out = fs::temp_directory_path() / ("pgba_run_dino_" + std::to_string(::getpid()));
   const nlohmann::json report = RunObjectRing("dino_sparse_ring", out);
@@ -63,13 +65,17 @@ TEST(RunRealData, DinoSparseRingAdaptiveContrastRegistersAccurately) {
             << " deg; pair verdicts " << report["stages"]["match"]["pair_verdicts"] << "\n";
   EXPECT_EQ(f["adapted_contrast_threshold"].size(), 16u);
   EXPECT_GT(f["features_mean"].get<double>(), 1000.0);
-  EXPECT_GE(e["images_registered"].get<int>(), 4);
-  EXPECT_LT(e["rot_err_deg_median"].get<double>(), 0.3);
-  EXPECT_LT(e["rot_err_deg_max"].get<double>(), 0.4);
-  EXPECT_GE(report["stages"]["match"]["pair_verdicts"].value("verified", 0), 5);
+  EXPECT_GE(e["images_registered"].get<int>(), 6);
+  EXPECT_LT(e["rot_err_deg_median"].get<double>(), 0.25);
+  EXPECT_LT(e["rot_err_deg_max"].get<double>(), 0.32);
+  const nlohmann::json& verdicts = report["stages"]["match"]["pair_verdicts"];
+  EXPECT_GE(verdicts.value("verified", 0), 5);
+  EXPECT_GE(verdicts.value("confirmed", 0), 6);
+  EXPECT_GE(verdicts.value("leaf", 0), 2);
   std::ifstream page(out / "report.html");
   const std::string html((std::istreambuf_iterator<char>(page)), std::istreambuf_iterator<char>());
   EXPECT_NE(html.find("<h2>View graph</h2>"), std::string::npos);
+  EXPECT_NE(html.find("connected to (inliers)"), std::string::npos);
   EXPECT_NE(html.find("lowered SIFT contrast threshold"), std::string::npos);
   EXPECT_TRUE(fs::is_regular_file(out / "matching" / "pairs.txt"));
   fs::remove_all(out);

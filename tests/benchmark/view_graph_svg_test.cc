@@ -48,10 +48,19 @@ TEST(ViewGraphSvg, ImagesInNameOrderPairsAsLinesDroppedImagesHollow) {
   EXPECT_EQ(Count(svg, "fill=\"white\" stroke=\"#d62728\""), 1u);  // d.png
   EXPECT_NE(svg.find("c.png - d.png: 15 inliers"), std::string::npos);
 
+  // In words: a (1) - b (2) with 120 inliers, c (3) - d (4) with 15, d not registered.
+  const std::string table = ViewGraphTable(g);
+  EXPECT_EQ(Count(table, "<tr>"), 5u);
+  EXPECT_NE(table.find("<td>1</td><td>a.png</td><td>yes</td><td>2 (120)</td>"), std::string::npos);
+  EXPECT_NE(table.find("<td>2</td><td>b.png</td><td>yes</td><td>1 (120)</td>"), std::string::npos);
+  EXPECT_NE(table.find("<td>4</td><td>d.png</td><td><b>no</b></td><td>3 (15)</td>"), std::string::npos);
+
   HtmlReportInput in;
   in.title = "t";
   in.view_graph = &g;
-  EXPECT_NE(RunReportHtml(in).find("<h2>View graph</h2>"), std::string::npos);
+  const std::string html = RunReportHtml(in);
+  EXPECT_NE(html.find("<h2>View graph</h2>"), std::string::npos);
+  EXPECT_NE(html.find(table), std::string::npos);
 }
 
 }  // namespace

@@ -89,6 +89,12 @@ Table BuildTable() {
   t["matching.verification.guided.threshold_px"] = kPositive;
   t["matching.verification.guided.max_ratio"] = HalfOpen(0, 1);
   t["matching.verification.guided.max_distance"] = kPositive;
+  t["matching.verification.weak_pairs.min_inliers"] = AtLeast(8);  // 5-point solver + 3 to choose
+  t["matching.verification.weak_pairs.max_rotation_sd_deg"] = kPositive;
+  t["matching.verification.weak_pairs.max_verified_pairs"] = kNonNegative;
+  t["matching.verification.weak_pairs.max_rotation_cycle_deg"] = kAngleDeg;
+  t["matching.verification.weak_pairs.max_coplanarity_deg"] = HalfOpen(0, 90);
+  t["matching.verification.weak_pairs.min_closed_matches"] = kNonNegative;
   t["matching.tracks.min_track_length"] = AtLeast(2);
   t["matching.max_indexed_images"] = AtLeast(2);  // both images of a pair
   // pairs (triplets/view_graph.h)
