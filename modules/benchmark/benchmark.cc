@@ -9,7 +9,7 @@
 #include "benchmark/svg_plot.h"
 #include "averaging/outlier_injection.h"
 #include "pgba/io/report.h"
-#include "pgba/util/timer.h"
+#include "pgba/util/cpu_time.h"
 #include "pgba/util/text_format.h"
 #include "pgba/scene/triangulate_model.h"
 #include "pgba/util/error.h"
@@ -39,10 +39,10 @@ MethodOutcome RunMethod(RefinementMethod method, const Reconstruction& tracks, c
                         const std::vector<LoopCorrespondence>* loops, const BenchmarkOptions& options,
                         double hessians_cpu_seconds) {
   MethodOutcome m;
-  const double cpu = ProcessCpuSeconds();
+  const CpuTimer cpu;
   m.refinement =
       RefinePoses(method, tracks, init.init.poses, init.init.triplets, hessians, options.refinement, options.convergence);
-  m.cpu_seconds = ProcessCpuSeconds() - cpu;
+  m.cpu_seconds = cpu.Seconds();
   if (method != RefinementMethod::kPointBased && method != RefinementMethod::kPointBasedSplit)
     m.cpu_seconds += hessians_cpu_seconds;
   m.model = TriangulateModel(tracks, m.refinement.poses);
@@ -123,9 +123,9 @@ BenchmarkResult RunBenchmark(const Reconstruction& tracks, const GlobalMapperRes
                              const std::vector<LoopCorrespondence>* loops, const BenchmarkOptions& options) {
   BenchmarkResult result;
   result.init_metrics = Evaluate(TriangulateModel(tracks, init.init.poses), tracks, gt, loops, options.evaluation);
-  const double cpu = ProcessCpuSeconds();
+  const CpuTimer cpu;
   const PreparedHessians hessians = PrepareLocalHessians(tracks, init.init.poses, init.init.triplets, options.refinement);
-  const double hessians_cpu = ProcessCpuSeconds() - cpu;
+  const double hessians_cpu = cpu.Seconds();
   for (RefinementMethod method : kAllRefinementMethods) {
     if (method == RefinementMethod::kAveraging && !AveragingApplies(options)) {
       result.skipped[RefinementMethodName(method)] = kAveragingNeedsSolvedMotions;

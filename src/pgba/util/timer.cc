@@ -1,17 +1,9 @@
 #include "pgba/util/timer.h"
 
-#include <ctime>
-
 #include <fstream>
 #include <string>
 
 namespace pgba {
-
-double ProcessCpuSeconds() {
-  timespec t{};
-  if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t) != 0) return 0.0;
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
 
 
 double PeakRssMb() {

@@ -17,11 +17,6 @@ class Timer {
   std::chrono::steady_clock::time_point start_;
 };
 
-// CPU time of this process so far (every thread, user + system), in seconds: on a loaded
-// machine, CPU time of a single-threaded stage (--threads 1) measures its work where wall time
-// measures the other processes too (benchmark.json "cpu_seconds").
-double ProcessCpuSeconds();
-
 // Peak resident set size of this process so far, in MiB (VmHWM of /proc/self/status).
 double PeakRssMb();
 
