@@ -181,6 +181,7 @@ Table BuildTable() {
   t["local_motions.neighbour_strides[]"] = kAtLeastOne;
   t["local_motions.triplet_start_misfit"] = Unbounded();  // <= 0: never
   t["local_motions.triplet_start_max_iterations"] = kAtLeastOne;
+  t["local_motions.triplet_start_max_per_image"] = Unbounded();  // <= 0: every triplet
   t["local_hessian.max_iterations"] = kNonNegative;
   t["local_hessian.attenuation_q"] = Unbounded();  // <= 0 disables the attenuation
   t["local_hessian.huber_px"] = kPositive;
