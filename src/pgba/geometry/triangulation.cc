@@ -21,39 +21,6 @@ namespace {
 // A^T A squares A's condition number, so the cameras are first normalised (Hartley): centres
 // relative to their mean c, in units of their RMS distance d from it, X = c + d X'; with
 // that, georeferenced coordinates (1e6 m) lose nothing.
-// The unit eigenvector of the smallest eigenvalue of the symmetric positive semi-definite M,
-// by inverse iteration started at the inhomogeneous solution (X', 1) (the point is rarely at
-// infinity): each step shrinks the other eigenvectors' share by lambda_1 / lambda_j, a tiny
-// ratio for a triangulable point, so two or three 4x4 LDL^T solves replace the eigen
-// decomposition (tridiagonalisation and QR sweeps were a tenth of a local-Hessian pass).
-// Where the iterates do not settle to 1e-12 (near-degenerate geometry, a point at infinity)
-// the full eigen decomposition decides.
-bool SmallestEigenvector(const Eigen::Matrix4d& M, Eigen::Vector4d* h) {
-  const double shift = 1e-13 * M.trace();  // keeps M + shift I definite when lambda_1 = 0
-  const Eigen::LDLT<Eigen::Matrix4d> ldlt(M + shift * Eigen::Matrix4d::Identity());
-  const Eigen::Vector3d y = M.topLeftCorner<3, 3>().ldlt().solve(-M.topRightCorner<3, 1>());
-  Eigen::Vector4d v(y(0), y(1), y(2), 1.0);
-  if (ldlt.info() == Eigen::Success && v.allFinite()) {
-    v.normalize();
-    for (int it = 0; it < 3; ++it) {
-      Eigen::Vector4d w = ldlt.solve(v);
-      if (!w.allFinite() || w.norm() == 0.0) break;
-      w.normalize();
-      if (w.dot(v) < 0) w = -w;
-      const double change = (w - v).norm();
-      v = w;
-      if (change < 1e-12) {
-        *h = v;
-        return true;
-      }
-    }
-  }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(M);
-  if (eig.info() != Eigen::Success) return false;
-  *h = eig.eigenvectors().col(0);  // eigenvalues ascending
-  return true;
-}
-
 template <typename PoseAt, typename BearingAt>
 bool SolveNormalMatrix(size_t n, const PoseAt& pose_at, const BearingAt& bearing_at, Eigen::Vector3d* X) {
   Eigen::Vector3d c = Eigen::Vector3d::Zero();
@@ -73,8 +40,9 @@ bool SolveNormalMatrix(size_t n, const PoseAt& pose_at, const BearingAt& bearing
     M.noalias() += P.transpose() * Q;  // P^T (I - b b^T) P: (I - b b^T) is idempotent
   }
   if (!M.allFinite()) return false;
-  Eigen::Vector4d h;
-  if (!SmallestEigenvector(M, &h)) return false;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(M);
+  if (eig.info() != Eigen::Success) return false;
+  const Eigen::Vector4d h = eig.eigenvectors().col(0);  // eigenvalues ascending
   if (!(std::abs(h(3)) >= 1e-12 * h.head<3>().norm())) return false;
   *X = c + d * (h.head<3>() / h(3));
   return X->allFinite();
