@@ -34,8 +34,9 @@ import json, sys
 r = json.load(open(sys.argv[1])); e = r["evaluation"]; cam = r["intrinsics"][0]
 fx, fy = float(sys.argv[3]), float(sys.argv[4])
 efx, efy = cam["final_params"][0], cam["final_params"][1]
-sd = ", ".join(f"{p['name']} sd {p['stddev']:.1f}" for p in cam["params"])
-print(f"prior x{sys.argv[2]}: {e['images_registered']} registered, rot err {e['rot_err_deg_median']:.3f} deg "
+sd = ", ".join(f"{p['name']} sd " + ("n/a" if p["stddev"] is None else f"{p['stddev']:.1f}") for p in cam["params"])
+print(f"prior x{sys.argv[2]}: {e['images_registered']} registered, sigma rms {e['sigma_rms']:.4f} px, "
+      f"rot err {e['rot_err_deg_median']:.3f} deg "
       f"(rel {e['rel_rot_err_deg_median']:.3f}), fx {efx:.1f}, fy {efy:.1f} ({sd}), mean focal error "
       f"{100 * ((efx + efy) / (fx + fy) - 1):+.2f}%")
 PY

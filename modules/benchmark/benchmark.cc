@@ -45,10 +45,15 @@ MethodOutcome RunMethod(RefinementMethod method, const Reconstruction& tracks, c
   m.cpu_seconds = cpu.Seconds();
   if (method != RefinementMethod::kPointBased && method != RefinementMethod::kPointBasedSplit)
     m.cpu_seconds += hessians_cpu_seconds;
-  m.model = TriangulateModel(tracks, m.refinement.poses);
-  m.metrics = Evaluate(m.model, tracks, gt, loops, options.evaluation);
+  // A self-calibrating method is triangulated, evaluated and written with the cameras it
+  // estimated (its sigma through the input cameras would measure the prior's error).
+  const Reconstruction refined =
+      m.refinement.cameras.empty() ? Reconstruction() : TracksWithCameras(tracks, m.refinement.cameras);
+  const Reconstruction& with_cameras = m.refinement.cameras.empty() ? tracks : refined;
+  m.model = TriangulateModel(with_cameras, m.refinement.poses);
+  m.metrics = Evaluate(m.model, with_cameras, gt, loops, options.evaluation);
   for (const auto& poses : m.refinement.history)
-    m.convergence.push_back(SigmaOrNaN(EvaluateSigma(tracks, poses, options.evaluation.sigma)));
+    m.convergence.push_back(SigmaOrNaN(EvaluateSigma(with_cameras, poses, options.evaluation.sigma)));
   m.refinement.history.clear();  // poses per iteration are not needed past the curve
   return m;
 }
@@ -156,6 +161,7 @@ nlohmann::json BenchmarkResult::ToJson() const {
     e["cpu_seconds"] = m.cpu_seconds;
     e["peak_rss_mb"] = r.peak_rss_mb;
     e["images_excluded"] = r.excluded_images.size();
+    if (!r.intrinsics.empty()) e["intrinsics"] = r.intrinsics;  // per camera: initial, final, stddev
     e["convergence"] = nlohmann::json::array();
     for (double s : m.convergence) e["convergence"].push_back(NumberOrNull(s));
     e["details"]["method"] = r.details;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <opencv2/calib3d.hpp>
 #include <stdexcept>
 
 #include "modules/calibration/grid_search.h"
@@ -37,6 +38,7 @@ struct PairModel {
   Eigen::Matrix3d F_hat = Eigen::Matrix3d::Zero();
   int inliers = 0;
   bool ok = false;
+  bool planar = false;  // a homography explains the pair (HomographyInliers): not used
 };
 
 double PairGapSquared(const PairModel& m, double s1, double s2) {
@@ -50,8 +52,27 @@ void SetNormalisedF(const Camera& c1, const Camera& c2, const Eigen::Matrix3d& F
   model->ok = model->F_hat.allFinite();
 }
 
+// Inliers of a homography x2 ~ H x1 (RANSAC, transfer error at the fundamental matrix's
+// threshold). A pair whose correspondences a homography explains (a planar scene, or a
+// rotation about the centre) has no unique F: RANSAC returns one of a family, and its
+// singular values say nothing of the focal (Hartley & Zisserman, 13.3; COLMAP's and GLOMAP's
+// "planar or panoramic" pairs, max_H_inlier_ratio 0.8).
+int HomographyInliers(const std::vector<Eigen::Vector2d>& x1, const std::vector<Eigen::Vector2d>& x2,
+                      const FundamentalMatrixOptions& options) {
+  std::vector<cv::Point2d> p1(x1.size()), p2(x2.size());
+  for (size_t i = 0; i < x1.size(); ++i) {
+    p1[i] = {x1[i].x(), x1[i].y()};
+    p2[i] = {x2[i].x(), x2[i].y()};
+  }
+  cv::Mat mask;
+  const cv::Mat H = cv::findHomography(p1, p2, cv::RANSAC, options.threshold_px, mask, options.max_iterations,
+                                       options.confidence);
+  return H.empty() ? 0 : cv::countNonZero(mask);
+}
+
 PairModel EstimatePairModel(const TrackIndex& index, const TwoViewGeometry& pair,
-                            const std::map<uint32_t, Camera>& cameras, const FundamentalMatrixOptions& options) {
+                            const std::map<uint32_t, Camera>& cameras, const FundamentalMatrixOptions& options,
+                            double max_homography_inlier_ratio) {
   PairModel model;
   const Reconstruction& tracks = index.tracks();
   model.camera1 = tracks.images.at(pair.image_id1).camera_id;
@@ -69,6 +90,12 @@ PairModel EstimatePairModel(const TrackIndex& index, const TwoViewGeometry& pair
   if (!f.success) return model;
   model.pixels.F = f.F;
   model.inliers = f.num_inliers;
+  if (max_homography_inlier_ratio < 1.0 &&
+      HomographyInliers(PinholePixels(c1, model.pixels.x1), PinholePixels(c2, model.pixels.x2), options) >=
+          max_homography_inlier_ratio * f.num_inliers) {
+    model.planar = true;  // F does not hold the focal: a family of F fits a homography
+    return model;
+  }
   SetNormalisedF(c1, c2, f.F, &model);
   return model;
 }
@@ -134,6 +161,7 @@ std::string ViewGraphCalibrationOptions::Check() const {
   if (max_sweeps < 1) return "max_sweeps must be >= 1";
   if (max_pairs_per_camera < 0) return "max_pairs_per_camera must be >= 0 (0 = all)";
   if (!(max_abs_k1 > 0 && max_abs_k1 <= 1)) return "max_abs_k1 must be in (0, 1]";
+  if (!(max_homography_inlier_ratio > 0)) return "max_homography_inlier_ratio must be > 0 (>= 1: no test)";
   if (!(rematch_shift_px >= 0 && std::isfinite(rematch_shift_px)))
     return "rematch_shift_px must be a finite number >= 0 (0 = never)";
   return "";
@@ -161,6 +189,7 @@ nlohmann::json ViewGraphCalibrationResult::ToJson() const {
   return {{"cameras", list},
           {"pairs_considered", pairs_considered},
           {"pairs_with_fundamental", pairs_with_fundamental},
+          {"pairs_planar", pairs_planar},
           {"seconds", seconds}};
 }
 
@@ -208,8 +237,10 @@ ViewGraphCalibrationResult CalibrateFocalsFromViewGraph(const Reconstruction& tr
   const TrackIndex index(tracks);
   std::vector<PairModel> models(considered.size());
   tbb::parallel_for(size_t(0), considered.size(), [&](size_t i) {
-    models[i] = EstimatePairModel(index, *considered[i], *cameras, options.fundamental);
+    models[i] = EstimatePairModel(index, *considered[i], *cameras, options.fundamental,
+                                  options.max_homography_inlier_ratio);
   });
+  for (const PairModel& m : models) result.pairs_planar += m.planar;
 
   // Each camera's pairs, the best-supported first, capped.
   std::map<uint32_t, std::vector<const PairModel*>> pairs_of;
@@ -280,7 +311,11 @@ ViewGraphCalibrationResult CalibrateFocalsFromViewGraph(const Reconstruction& tr
     c.relative_sd = StandardDeviation(cost, x, c.pairs_used);
     if (c.pairs_used < options.min_pairs) {
       c.reason = std::to_string(c.pairs_used) + " pairs with a fundamental matrix, " + std::to_string(options.min_pairs) +
-                 " needed";
+                 " needed" +
+                 (result.pairs_planar > 0 ? " (" + std::to_string(result.pairs_planar) +
+                                                " pairs left out: a homography explains them, planar scene or pure "
+                                                "rotation)"
+                                          : std::string());
     } else if (c.reason.empty() && !(c.relative_sd <= options.max_relative_sd)) {
       c.reason = "too uncertain (relative sd " + std::to_string(c.relative_sd) + " > max_relative_sd " +
                  std::to_string(options.max_relative_sd) + "): the pairs' geometry does not determine the focal";

@@ -16,6 +16,7 @@
 #include "modules/global_ba/motion_weighting.h"
 #include "pgba/optim/intrinsics.h"
 #include "pgba/optim/pose_parameterization.h"
+#include "pgba/util/error.h"
 #include "pgba/util/logging.h"
 #include "pgba/util/timer.h"
 #include "pgba/util/upper_median.h"
@@ -164,6 +165,9 @@ double Displacement(const GlobalBAResult& result, const std::vector<LocalHessian
 // previous solve ended with: the re-taken models differ little from the old ones near the
 // solution, and restarting at initial_trust_region_radius damped the weak directions again
 // (long-focal loop seed 1, the last solve: 12 iterations from 1e8, 4 from the carried 3.5e10).
+// A carried radius can leave a weak direction undamped enough that the first pose system is
+// not positive definite (self-calibrating planar:4, focal 1535 -> 1380 px in one pass, carried
+// 1.1e12): the solve is then taken again from initial_trust_region_radius.
 GlobalBAResult SolveAgain(const std::map<uint32_t, Pose>& poses, const Models& models, const GlobalBAOptions& given,
                           const GlobalBAIterationCallback& callback, const GcpInput* gcps, GlobalBASummary* total) {
   GlobalBAOptions options = given;
@@ -176,8 +180,23 @@ GlobalBAResult SolveAgain(const std::map<uint32_t, Pose>& poses, const Models& m
       c.iteration += offset;
       callback(c);
     };
-  GlobalBAResult result =
-      RunGlobalBA(poses, models.frames(), models.hessians(), options, shifted, gcps, /*report_start=*/false);
+  const auto solve = [&] {
+    return RunGlobalBA(poses, models.frames(), models.hessians(), options, shifted, gcps, /*report_start=*/false);
+  };
+  GlobalBAResult result;
+  if (options.initial_trust_region_radius > given.initial_trust_region_radius) {
+    try {
+      result = solve();
+    } catch (const InputError& e) {
+      PGBA_LOG_INFO << "global BA: " << e.what() << " from the carried trust region radius "
+                    << options.initial_trust_region_radius << "; solved again from "
+                    << given.initial_trust_region_radius;
+      options.initial_trust_region_radius = given.initial_trust_region_radius;
+      result = solve();
+    }
+  } else {
+    result = solve();
+  }
   const GlobalBASummary& s = result.summary;
   total->iterations += s.iterations;
   total->rounds += s.rounds;
@@ -192,8 +211,26 @@ ObservationShares SharesOf(const Reconstruction& tracks, const std::vector<Local
   return at_solution.shared_observation_weighting ? CountObservationShares(tracks, motions) : ObservationShares();
 }
 
+// One Levenberg-Marquardt step on `models` from `poses`: a single iteration of the solve with
+// damping diag(J^T J) / radius (GlobalBAOptions::relinearize_damped_steps). The trust region
+// carried for the undamped solves is left as it was.
+GlobalBAResult SolveDamped(const std::map<uint32_t, Pose>& poses, const Models& models, const GlobalBAOptions& given,
+                           double radius, const GlobalBAIterationCallback& callback, const GcpInput* gcps,
+                           GlobalBASummary* total) {
+  GlobalBAOptions options = given;
+  options.max_rounds = 1;
+  options.max_iterations_per_round = 1;
+  options.initial_trust_region_radius = radius;
+  const double carried = total->final_trust_region_radius;
+  total->final_trust_region_radius = 0.0;
+  GlobalBAResult result = SolveAgain(poses, models, options, callback, gcps, total);
+  total->final_trust_region_radius = carried;
+  return result;
+}
+
 // GlobalBAOptions::relinearize_checked: Gauss-Newton over re-linearisation passes, each step
-// kept only if the true robust cost falls.
+// kept only if the true robust cost falls. A refused step is taken again, damped, from the
+// same linearisation (Levenberg-Marquardt across the passes, relinearize_damped_steps).
 GlobalBAResult CheckedRelinearization(const Reconstruction& tracks, const LocalHessianOptions& lh_options,
                                       const std::map<uint32_t, Pose>& initial_poses,
                                       const std::vector<LocalMotion>& motions,
@@ -213,10 +250,15 @@ GlobalBAResult CheckedRelinearization(const Reconstruction& tracks, const LocalH
   const auto solve_options = [&](int passes_left) -> const GlobalBAOptions& {
     return passes_left > 0 ? before_pass : pointless;
   };
+  // Levenberg-Marquardt across the passes: 0 while the steps are Gauss-Newton's (the solve
+  // converged on the models), else the damped step's trust-region radius (diag(J^T J) /
+  // radius), updated by the gain ratio of the true robust cost as Ceres updates its own.
+  double radius = 0.0, nu = 2.0;
+  int refusals_left = options.relinearize_damped_steps;
+  const int max_kept = options.max_relinearizations;
 
   Models models(motions, hessians);
-  GlobalBAResult trial =
-      RunGlobalBA(initial_poses, motions, hessians, solve_options(options.max_relinearizations), callback, gcps);
+  GlobalBAResult trial = RunGlobalBA(initial_poses, motions, hessians, solve_options(max_kept), callback, gcps);
   GlobalBASummary total = trial.summary;
   // The kept state: the initial poses (cost of the models taken there), then each kept step.
   GlobalBAResult kept = trial;
@@ -227,31 +269,65 @@ GlobalBAResult CheckedRelinearization(const Reconstruction& tracks, const LocalH
   }
   const std::map<uint32_t, GlobalIntrinsics> first = trial.intrinsics;
   double cost = TotalRobustCost(models.hessians(), nullptr, trial);
-  for (int k = 1; k <= options.max_relinearizations; ++k) {
+  int kept_steps = 0;
+  // The solve that produces the next trial from the kept state and its models.
+  const auto next_trial = [&](int passes_left) {
+    return radius > 0 ? SolveDamped(kept.poses, models, solve_options(passes_left), radius, callback, gcps, &total)
+                      : SolveAgain(kept.poses, models, solve_options(passes_left), callback, gcps, &total);
+  };
+  while (kept_steps < max_kept) {
     Timer pass;
     Models::Retaken retaken = RelinearizeAt(tracks, at_solution, &shares, motions, trial);
     total.relinearization_seconds += pass.Seconds();
     const double trial_cost = TotalRobustCost(models.hessians(), &retaken, trial);
-    PGBA_LOG_INFO << "global BA re-linearisation " << k << ": robust cost " << cost << " -> " << trial_cost
-                  << (trial_cost < cost ? " (step kept)" : " (step refused: stopping at the last kept step)");
+    const double predicted = 2.0 * (trial.summary.initial_cost - trial.summary.final_cost);
     // An unknown starting cost (local Hessians read from an older workspace file): the first
     // step is taken unchecked.
     const bool unknown = !std::isfinite(cost);
-    if (!unknown && !(trial_cost < cost)) break;
+    const bool refused = !unknown && !(trial_cost < cost);
+    PGBA_LOG_INFO << "global BA re-linearisation " << kept_steps + 1
+                  << (radius > 0 ? " (damped, radius " + std::to_string(radius) + ")" : std::string())
+                  << ": robust cost " << cost << " -> " << trial_cost << " (the models predicted " << predicted
+                  << " lower)"
+                  << (!refused ? " (step kept)"
+                      : refusals_left > 0 ? " (step refused: damped again from the last kept step)"
+                                          : " (step refused: stopping at the last kept step)");
+    if (refused) {
+      if (refusals_left == 0) break;
+      --refusals_left;
+      if (radius > 0) {
+        radius /= nu;
+        nu *= 2.0;
+      } else {
+        radius = options.relinearize_damping_radius;
+      }
+      trial = next_trial(max_kept - kept_steps);
+      continue;
+    }
     const double decrease = unknown ? 1.0 : (cost - trial_cost) / cost;
     // How far the step moved from the models it was solved with, in noise sigmas.
     total.relinearization_displacement = Displacement(trial, models.hessians(), retaken.index, pointless);
     models.Adopt(std::move(retaken));
+    const double gain = predicted > 0 && !unknown ? (cost - trial_cost) / predicted : 1.0;
     cost = trial_cost;
     kept = trial;
-    total.relinearizations = k;
+    total.relinearizations = ++kept_steps;
+    // A damped step that was kept: the radius grows with the gain ratio (Ceres' rule), back
+    // to Gauss-Newton's undamped solve once the damping is negligible. A damped step's small
+    // displacement says nothing of convergence.
+    const bool damped = radius > 0;
+    if (damped) {
+      radius /= std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * std::min(gain, 1.0) - 1.0, 3));
+      nu = 2.0;
+      if (radius >= options.initial_trust_region_radius) radius = 0.0;
+    }
     if (decrease < options.relinearize_cost_tolerance ||
-        total.relinearization_displacement < options.relinearize_tolerance)
+        (!damped && total.relinearization_displacement < options.relinearize_tolerance))
       break;
-    trial = SolveAgain(kept.poses, models, solve_options(options.max_relinearizations - k), callback, gcps, &total);
+    trial = next_trial(max_kept - kept_steps);
     // The last solve is taken as it is: its own check would cost one more pass, and it starts
     // from models that a kept step just produced (the same as the unchecked re-linearisation).
-    if (k == options.max_relinearizations) kept = trial;
+    if (kept_steps == max_kept) kept = trial;
   }
   if (total.relinearizations == 0)
     PGBA_LOG_WARN << "global BA: the re-linearised first step raised the robust reprojection cost; the initial poses "

@@ -9,7 +9,9 @@
 
 #include <cstdio>
 
+#include "mapper/pose_refinement.h"
 #include "modules/global_ba/global_ba.h"
+#include "modules/local_hessian/whole_track_motions.h"
 #include "tests/global_ba/global_ba_fixture.h"
 
 namespace pgba {
@@ -131,6 +133,49 @@ TEST(Relinearization, ForcedOnConsistentModelsKeepsTheSolution) {
               e_relin.rot_deg_median, relin.summary.relinearization_displacement);
   EXPECT_LT(relin.summary.relinearization_displacement, 0.5);
   EXPECT_LT(e_relin.rot_deg_median, 1.3 * e_fixed.rot_deg_median);
+}
+
+// The checked re-linearisation's damped outer loop (GlobalBAOptions::relinearize_damped_steps)
+// on whole-track motions of a ring (the default method's models): where every step lowers
+// the true cost it changes nothing; where the true cost refuses every step (the starting cost
+// made unbeatable) each refusal is taken again as one damped step (one iteration more), and
+// the initial poses come back.
+TEST(Relinearization, CheckedDampedStepsOnlyActOnARefusedStep) {
+  RingSceneOptions ro;
+  ro.num_images = 18;
+  ro.num_points = 1500;
+  ro.seed = 11;
+  const Reconstruction rec = MakeRingScene(ro);
+  const std::map<uint32_t, Pose> initial = PerturbPoses(PosesOf(rec), 0.3, 0.01, 3);
+  WholeTrackMotionOptions mo;
+  mo.max_views = 6;
+  const std::vector<LocalMotion> motions = SelectWholeTrackMotions(rec, initial, mo);
+  const LocalHessianOptions lh = WholeTrackLocalHessianOptions();
+  const LocalHessianResult hessians = ComputeLocalHessians(rec, motions, lh);
+  ASSERT_EQ(hessians.num_ok(), static_cast<int>(motions.size()));
+  GlobalBAOptions checked = WholeTrackGlobalBAOptions();
+  checked.max_relinearizations = 2;
+  GlobalBAOptions damped = checked;
+  damped.relinearize_damped_steps = 3;
+  const GlobalBAResult a = RelinearizedGlobalBA(rec, lh, initial, motions, hessians.hessians, checked);
+  const GlobalBAResult b = RelinearizedGlobalBA(rec, lh, initial, motions, hessians.hessians, damped);
+  std::printf("checked: %d re-linearisations, %d iterations; damped %d, %d\n", a.summary.relinearizations,
+              a.summary.iterations, b.summary.relinearizations, b.summary.iterations);
+  EXPECT_GE(a.summary.relinearizations, 1);
+  EXPECT_EQ(b.summary.iterations, a.summary.iterations);
+  EXPECT_LT(GroundTruthErrors(b.poses, a.poses).rot_deg_max, 1e-12);
+
+  std::vector<LocalHessian> unbeatable = hessians.hessians;
+  for (LocalHessian& h : unbeatable) h.robust_cost = 0.0;
+  const GlobalBAResult c = RelinearizedGlobalBA(rec, lh, initial, motions, unbeatable, checked);
+  const GlobalBAResult d = RelinearizedGlobalBA(rec, lh, initial, motions, unbeatable, damped);
+  EXPECT_EQ(c.summary.relinearizations, 0);
+  EXPECT_EQ(d.summary.relinearizations, 0);
+  EXPECT_EQ(d.summary.iterations, c.summary.iterations + damped.relinearize_damped_steps);
+  for (const auto& [id, pose] : d.poses) {
+    EXPECT_LT((pose.t() - initial.at(id).t()).norm(), 1e-12);
+    EXPECT_LT(pose.q().angularDistance(initial.at(id).q()), 1e-12);
+  }
 }
 
 }  // namespace

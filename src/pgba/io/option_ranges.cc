@@ -122,6 +122,7 @@ Table BuildTable() {
   t["calibration.max_sweeps"] = kAtLeastOne;
   t["calibration.max_pairs_per_camera"] = kNonNegative;  // 0 = all
   t["calibration.max_abs_k1"] = HalfOpen(0, 1);
+  t["calibration.max_homography_inlier_ratio"] = kPositive;  // >= 1: no test
   t["calibration.rematch_shift_px"] = kNonNegative;  // 0 = never
   // triplets (triplets/triplet_options.h, absolute_pose.h)
   t["triplets.max_triplets_per_image"] = kAtLeastOne;
@@ -211,6 +212,8 @@ Table BuildTable() {
   t["global_ba.relinearize_tolerance"] = kPositive;
   t["global_ba.relinearize_cost_tolerance"] = kNonNegative;
   t["global_ba.relinearized_function_tolerance"] = kNonNegative;
+  t["global_ba.relinearize_damped_steps"] = kNonNegative;
+  t["global_ba.relinearize_damping_radius"] = kPositive;
   // point_based (mapper/pose_refinement.h)
   AddBundleAdjuster("point_based.bundle", &t);
   t["point_based.filter_max_error_px"] = Unbounded();  // <= 0: a single pass
