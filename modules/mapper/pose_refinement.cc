@@ -85,9 +85,9 @@ void MeasureTripletStart(const Reconstruction& tracks, const std::map<uint32_t, 
   PGBA_LOG_INFO << "local motions: initial poses " << hessians->triplet_rotation_misfit
                 << " triplet residuals off their triplets' rotations"
                 << (hessians->triplet_start ? ": linearised at the triplets' pointless BA instead" : "");
-  if (hessians->triplet_start) hessians->linearization_poses =
-      TripletPointlessStart(tracks, initial, triplets, options.triplet_start_max_iterations,
-                                                      options.triplet_start_max_per_image);
+  if (hessians->triplet_start)
+    hessians->linearization_poses = TripletPointlessStart(tracks, initial, triplets, options.triplet_start_max_iterations,
+                                                          options.triplet_start_max_per_image);
 }
 
 PreparedHessians PrepareLocalHessians(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,

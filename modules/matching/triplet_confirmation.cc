@@ -79,25 +79,43 @@ Eigen::Vector3d PairCentreDirectionFrom(const PairEstimate& p, uint32_t x) {
   return c.normalized();
 }
 
+namespace {
+
+// The triangle's three baselines in i's frame: j's centre along d_ij, k's along d_ik, and k
+// from j along d_jk. `closes`: d_ik = a d_ij + b d_jk with a, b > 0 (ab), n the unit normal of
+// the plane of d_ij and d_jk.
+struct TriangleBaselines {
+  Eigen::Matrix3d R_ij;
+  Eigen::Vector3d d_ij, d_ik, d_jk, n;
+  Eigen::Vector2d ab;
+  bool closes = false;
+};
+
+TriangleBaselines BaselinesOf(uint32_t i, uint32_t j, const PairEstimate& ij, const PairEstimate& ik,
+                              const PairEstimate& jk) {
+  TriangleBaselines b;
+  b.R_ij = PairRotationFrom(ij, i);
+  b.d_ij = PairCentreDirectionFrom(ij, i);
+  b.d_ik = PairCentreDirectionFrom(ik, i);
+  b.d_jk = b.R_ij.transpose() * PairCentreDirectionFrom(jk, j);
+  b.closes = SplitBaseline(b.d_ij, b.d_jk, b.d_ik, &b.ab, &b.n) && b.ab(0) > 0 && b.ab(1) > 0;
+  return b;
+}
+
+}  // namespace
+
 TriangleTest TestTriangle(uint32_t i, uint32_t j, uint32_t k, const PairEstimate& ij, const PairEstimate& ik,
                           const PairEstimate& jk) {
   TriangleTest t;
-  const Eigen::Matrix3d R_ij = PairRotationFrom(ij, i), R_jk = PairRotationFrom(jk, j), R_ki = PairRotationFrom(ik, k);
-  t.rotation_cycle_deg = RotationAngleDeg(R_ki * R_jk * R_ij, Eigen::Matrix3d::Identity());
-
-  // In i's frame: j's centre along d_ij, k's along d_ik, and k from j along d_jk. The
-  // triangle closes when d_ik = a d_ij + b d_jk with a, b > 0 and no part out of their plane.
-  const Eigen::Vector3d d_ij = PairCentreDirectionFrom(ij, i), d_ik = PairCentreDirectionFrom(ik, i);
-  const Eigen::Vector3d d_jk = R_ij.transpose() * PairCentreDirectionFrom(jk, j);
-  Eigen::Vector2d ab;
-  Eigen::Vector3d n;
-  t.coplanarity_deg = 90.0;
-  if (SplitBaseline(d_ij, d_jk, d_ik, &ab, &n) && ab(0) > 0 && ab(1) > 0)
-    t.coplanarity_deg = std::asin(std::min(1.0, std::abs(n.dot(d_ik)))) * kDeg;
+  const TriangleBaselines b = BaselinesOf(i, j, ij, ik, jk);
+  const Eigen::Matrix3d R_jk = PairRotationFrom(jk, j), R_ki = PairRotationFrom(ik, k);
+  t.rotation_cycle_deg = RotationAngleDeg(R_ki * R_jk * b.R_ij, Eigen::Matrix3d::Identity());
+  // The triangle closes when no part of d_ik is out of the plane of d_ij and d_jk.
+  t.coplanarity_deg = b.closes ? std::asin(std::min(1.0, std::abs(b.n.dot(b.d_ik)))) * kDeg : 90.0;
 
   const auto i_to_k = PairPartnersFrom(ik, i), j_to_k = PairPartnersFrom(jk, j);
-  for (const auto& [a, b] : ij.matches) {
-    const uint32_t fi = ij.image1 == i ? a : b, fj = ij.image1 == i ? b : a;
+  for (const auto& [a, c] : ij.matches) {
+    const uint32_t fi = ij.image1 == i ? a : c, fj = ij.image1 == i ? c : a;
     const auto ci = i_to_k.find(fi), cj = j_to_k.find(fj);
     if (ci != i_to_k.end() && cj != j_to_k.end() && ci->second == cj->second) ++t.closed_matches;
   }
@@ -106,15 +124,11 @@ TriangleTest TestTriangle(uint32_t i, uint32_t j, uint32_t k, const PairEstimate
 
 bool FrameOfTriangle(uint32_t i, uint32_t j, uint32_t k, const PairEstimate& ij, const PairEstimate& ik,
                      const PairEstimate& jk, TriangleFrame* frame) {
-  const Eigen::Matrix3d R_ij = PairRotationFrom(ij, i);
-  const Eigen::Vector3d d_ij = PairCentreDirectionFrom(ij, i), d_ik = PairCentreDirectionFrom(ik, i);
-  const Eigen::Vector3d d_jk = R_ij.transpose() * PairCentreDirectionFrom(jk, j);
-  Eigen::Vector2d ab;
-  Eigen::Vector3d n;
-  if (!SplitBaseline(d_ij, d_jk, d_ik, &ab, &n) || !(ab(0) > 0 && ab(1) > 0)) return false;
-  frame->R = {Eigen::Matrix3d::Identity(), R_ij, PairRotationFrom(ik, i)};
+  const TriangleBaselines b = BaselinesOf(i, j, ij, ik, jk);
+  if (!b.closes) return false;
+  frame->R = {Eigen::Matrix3d::Identity(), b.R_ij, PairRotationFrom(ik, i)};
   // C_k = d_ik / a from i, = d_ij + (b / a) d_jk from j: their mean.
-  frame->C = {Eigen::Vector3d::Zero(), d_ij, 0.5 * (d_ik / ab(0) + d_ij + (ab(1) / ab(0)) * d_jk)};
+  frame->C = {Eigen::Vector3d::Zero(), b.d_ij, 0.5 * (b.d_ik / b.ab(0) + b.d_ij + (b.ab(1) / b.ab(0)) * b.d_jk)};
   return true;
 }
 

@@ -5,7 +5,6 @@
 
 namespace pgba {
 
-
 double PeakRssMb() {
   std::ifstream in("/proc/self/status");
   std::string key;
