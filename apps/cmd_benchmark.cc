@@ -48,7 +48,7 @@ void RegisterBenchmark(CLI::App& app) {
 
   AddCommand(app, sub, [args] {
     namespace fs = std::filesystem;
-    const ReconstructionOptions ro = LoadRunOptions(args->config).reconstruction;
+    const PointlessMapperOptions ro = LoadRunOptions(args->config).reconstruction;
     BenchmarkOptions options;
     options.mapper = ro.mapper;
     options.refinement = ro.refinement;

@@ -10,7 +10,8 @@
 
 #include "apps/commands.h"
 #include "apps/output_dir.h"
-#include "mapper/global_mapper.h"
+#include "mapper/mapper_workspace.h"
+#include "mapper/pointless_mapper.h"
 #include "mapper/run_pipeline.h"
 #include "pgba/io/colmap_database.h"
 #include "pgba/io/colmap_text.h"
@@ -59,7 +60,7 @@ void RegisterInit(CLI::App& app) {
       report["database"] = args->database;
     const GlobalMapperResult result = RunGlobalMapper(tracks, options, &report);
     WriteGlobalMapperWorkspace(args->out, tracks, result);
-    ReconstructionOptions fingerprinted;
+    PointlessMapperOptions fingerprinted;
     fingerprinted.mapper = options;
     WriteWorkspaceFingerprint(args->out, FingerprintOf(tracks, fingerprinted, /*with_hessians=*/false));
     report.Write((std::filesystem::path(args->out) / "report.json").string());

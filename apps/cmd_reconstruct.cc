@@ -13,6 +13,7 @@
 #include "apps/commands.h"
 #include "apps/output_dir.h"
 #include "local_hessian/local_hessian_io.h"
+#include "mapper/mapper_workspace.h"
 #include "mapper/run_pipeline.h"
 #include "pgba/io/colmap_text.h"
 #include "pgba/io/gcp_file.h"
@@ -38,7 +39,7 @@ void RegisterReconstruct(CLI::App& app) {
 
   AddCommand(app, sub, [args] {
     namespace fs = std::filesystem;
-    ReconstructionOptions options = LoadRunOptions(args->config).reconstruction;
+    PointlessMapperOptions options = LoadRunOptions(args->config).reconstruction;
     options.gcp_path = args->gcp;
     if (!args->gcp.empty()) ReadGcpFile(args->gcp);  // a malformed file fails before any work
     const Reconstruction tracks = ReadColmapText(args->tracks);
@@ -52,9 +53,11 @@ void RegisterReconstruct(CLI::App& app) {
     report["tracks"] = args->tracks;
     const std::string report_path = (fs::path(args->out) / "report.json").string();
     try {
-      const ReconstructionOutput result = args->workspace.empty()
-                                              ? Reconstruct(tracks, options, &report)
-                                              : ReconstructFromWorkspace(tracks, args->workspace, options, &report);
+      const PointlessMapper mapper(options);
+      const PointlessMapperResult result =
+          mapper.Solve(tracks, &report,
+                       args->workspace.empty() ? PointlessMapperResult()
+                                               : ReadMapperWorkspace(tracks, args->workspace, options, &report));
       WriteReconstruction(args->out, tracks, result);
       WriteWorkspaceFingerprint(args->out, FingerprintOf(tracks, options, /*with_hessians=*/true));
       report["status"] = "ok";

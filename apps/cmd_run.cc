@@ -67,7 +67,7 @@ void RegisterRun(CLI::App& app) {
       report.Write((out / "report.json").string());
       throw;
     }
-    const ReconstructionOutput& rec = result.reconstruction;
+    const PointlessMapperResult& rec = result.reconstruction;
     WriteWorkspaceFingerprint(out, FingerprintOf(result.tracks, options.reconstruction, /*with_hessians=*/true));
     EvaluationMetrics metrics = Evaluate(rec.model, result.tracks, args->gt.empty() ? nullptr : &gt, nullptr);
     report["evaluation"] = metrics.ToJson();

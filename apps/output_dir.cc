@@ -32,7 +32,7 @@ void RemovePreviousResults(const std::string& out) {
   }
 }
 
-WorkspaceFingerprint FingerprintOf(const Reconstruction& tracks, const ReconstructionOptions& options,
+WorkspaceFingerprint FingerprintOf(const Reconstruction& tracks, const PointlessMapperOptions& options,
                                    bool with_hessians) {
   WorkspaceFingerprint f;
   f.tracks = TracksFingerprint(tracks);

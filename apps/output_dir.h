@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "mapper/reconstruction_pipeline.h"
+#include "mapper/pointless_mapper.h"
 #include "pgba/io/workspace_fingerprint.h"
 
 namespace pgba::app {
@@ -22,7 +22,7 @@ void RemovePreviousResults(const std::string& out);
 
 // The fingerprint of a workspace computed from `tracks` with `options` (its hessian part
 // only if the workspace holds local hessians).
-WorkspaceFingerprint FingerprintOf(const Reconstruction& tracks, const ReconstructionOptions& options,
+WorkspaceFingerprint FingerprintOf(const Reconstruction& tracks, const PointlessMapperOptions& options,
                                    bool with_hessians);
 
 }  // namespace pgba::app

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "evaluation/evaluation.h"
-#include "mapper/global_mapper.h"
+#include "mapper/pointless_mapper.h"
 #include "mapper/pose_refinement.h"
 #include "pgba/scene/reconstruction.h"
 

@@ -4,6 +4,7 @@
 #include <optional>
 
 #include "features/feature_index.h"
+#include "mapper/mapper_workspace.h"
 #include "matching/front_end_geometries.h"
 #include "modules/calibration/pixel_shift.h"
 #include "pgba/io/colmap_text.h"
@@ -21,11 +22,11 @@ RunOptions LoadRunOptions(const std::string& path) {
   if (path.empty()) return options;
   ConfigSchema schema;
   schema.Add("features", options.features).Add("matching", options.matching);
-  AddReconstructionSections(&schema);
+  AddPointlessMapperSections(&schema);
   const Config config = LoadConfig(path, schema);
   ReadSection(config, "features", &options.features);
   ReadSection(config, "matching", &options.matching);
-  ReadReconstructionOptions(config, &options.reconstruction);
+  ReadPointlessMapperOptions(config, &options.reconstruction);
   return options;
 }
 
@@ -103,9 +104,9 @@ FrontEndGeometries MatchOrReuse(const FeatureExtractionResult& features, const f
   return ReadFrontEndGeometries(FrontEndGeometriesPath(out.string()), *tracks);
 }
 
-ReconstructionOutput ReconstructFromFrontEnd(const Reconstruction& tracks, const FrontEndGeometries& geometries,
-                                             const ReconstructionOptions& options, Report* report) {
-  return Reconstruct(tracks, options, report, /*record_convergence=*/true, geometries ? &*geometries : nullptr);
+PointlessMapperResult ReconstructFromFrontEnd(const Reconstruction& tracks, const FrontEndGeometries& geometries,
+                                              const PointlessMapper& mapper, Report* report) {
+  return mapper.Solve(tracks, report, {}, geometries ? &*geometries : nullptr);
 }
 
 }  // namespace
@@ -128,13 +129,15 @@ RunOutput RunPipeline(const std::string& images_dir, const CalibrationInput& cal
   if (result.tracks.points3D.empty())
     throw InputError(images_dir + ": no verified matches between the images (do they overlap?)");
 
-  ReconstructionOptions reconstruction = options.reconstruction;
+  PointlessMapperOptions reconstruction = options.reconstruction;
   // Without a calibration file the cameras are priors (EXIF or the default focal), and a file
   // given with --calib-prior is one too: the default intrinsics.cameras "auto" then estimates them.
   reconstruction.refinement.calibration_is_prior =
       options.calibration_is_prior || features.calibration_source.rfind("file:", 0) != 0;
+  reconstruction.record_convergence = true;
   (*report)["calibration_is_prior"] = reconstruction.refinement.calibration_is_prior;
-  result.reconstruction = ReconstructFromFrontEnd(result.tracks, geometries, reconstruction, report);
+  const PointlessMapper mapper(reconstruction);
+  result.reconstruction = ReconstructFromFrontEnd(result.tracks, geometries, mapper, report);
 
   // The tracks were verified with the cameras before self-calibration; when it moved them by
   // more than calibration.rematch_shift_px, match again with the refined cameras (written to
@@ -153,7 +156,7 @@ RunOutput RunPipeline(const std::string& images_dir, const CalibrationInput& cal
     // The second matching verifies with the refined cameras: its geometries hold for them.
     geometries = MatchOrReuse(recalibrated, ws, options.matching, report, &result.tracks, "match_recalibrated");
     WriteFeatureIndex(out, features.index);
-    result.reconstruction = ReconstructFromFrontEnd(result.tracks, geometries, reconstruction, report);
+    result.reconstruction = ReconstructFromFrontEnd(result.tracks, geometries, mapper, report);
   }
   (*report)["rematch_shift_px"] = shift;
   WriteReconstruction(out, result.tracks, result.reconstruction);

@@ -9,7 +9,7 @@
 #include <string>
 
 #include "features/extract_features.h"
-#include "mapper/reconstruction_pipeline.h"
+#include "mapper/pointless_mapper.h"
 #include "matching/match_images.h"
 #include "pgba/io/report.h"
 
@@ -18,7 +18,7 @@ namespace pgba {
 struct RunOptions {
   FeatureExtractionOptions features;   // section "features"
   MatchingOptions matching;            // section "matching"
-  ReconstructionOptions reconstruction;  // the sections of `reconstruct`
+  PointlessMapperOptions reconstruction;  // the sections of `reconstruct`
   // `pgba run --calib-prior` (not a config key): the calibration file is only a prior (a
   // spec-sheet focal, an old calibration), so intrinsics.cameras "auto" refines it in every
   // BA as it does EXIF priors. Default false: a given calibration is held.
@@ -31,7 +31,7 @@ RunOptions LoadRunOptions(const std::string& path);
 
 struct RunOutput {
   Reconstruction tracks;
-  ReconstructionOutput reconstruction;  // with its convergence curve
+  PointlessMapperResult reconstruction;  // with its convergence curve
 };
 
 // Every stage, timed in `report`; writes OUT/features/, OUT/tracks/, OUT/matching/ on the

@@ -57,7 +57,7 @@ struct TripletOptions {
   }();
   // Self-calibration in the triplet BA: the focal and distortion coefficients of the
   // triplet's cameras (IntrinsicsOptions' switches) become unknowns of its BA, a copy per
-  // triplet (only its relative poses leave the stage). Reconstruct() turns it on whenever the
+  // triplet (only its relative poses leave the stage). PointlessMapper::Solve turns it on whenever the
   // final adjustments estimate intrinsics (section intrinsics): under a prior 3% long with an
   // unmodelled k = -0.08 the initial relative rotations err by 5.4 deg held, 0.11 deg freed
   // (tests/triplets/triplet_self_calibration_test.cc).

@@ -3,7 +3,7 @@
 // (the cameras it ends with, the report, the pairs verified again).
 #include <gtest/gtest.h>
 
-#include "modules/mapper/global_mapper.h"
+#include "modules/mapper/pointless_mapper.h"
 #include "modules/synthetic/synthetic_scene.h"
 
 namespace pgba {

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "global_ba/global_ba.h"
-#include "mapper/reconstruction_pipeline.h"
+#include "mapper/pointless_mapper.h"
 #include "pgba/io/json_config.h"
 #include "pgba/util/error.h"
 #include "triplets/triplet_options.h"
@@ -32,7 +32,7 @@ TEST(JsonConfigExample, HeaderExampleParsesUnderTheRealSchema) {
 
   // The schema of `pgba reconstruct` / `run` (every reconstruction section).
   ConfigSchema full;
-  AddReconstructionSections(&full);
+  AddPointlessMapperSections(&full);
   EXPECT_NO_THROW(full.Validate(config));
 
   // The header's own usage lines.
@@ -53,7 +53,7 @@ TEST(JsonConfigExample, HeaderExampleParsesUnderTheRealSchema) {
 // relapse.
 TEST(JsonConfigExample, OldExampleIsRejected) {
   ConfigSchema full;
-  AddReconstructionSections(&full);
+  AddPointlessMapperSections(&full);
   for (const auto& [text, key] : {std::pair<std::string, std::string>{R"({"triplets": {"min_points": 30}})", "min_points"},
                                    {R"({"global_ba": {"huber_px": 1.0}})", "huber_px"}}) {
     try {

@@ -8,7 +8,7 @@
 #include <Eigen/Geometry>
 #include <filesystem>
 
-#include "mapper/reconstruction_pipeline.h"
+#include "mapper/pointless_mapper.h"
 #include "modules/global_ba/gcp_alignment.h"
 #include "modules/global_ba/gcp_residual.h"
 #include "modules/global_ba/global_ba.h"
@@ -258,10 +258,10 @@ TEST(GcpReconstruct, ResultIsInTheGcpFrameWithoutAlignment) {
   std::vector<GcpFileEntry> gcps = MakeGcps(truth, S, 10, 0.01);
   gcps[0].observations.push_back({"not_in_tracks.jpg", {10, 10}, 0});  // warned and skipped
   WriteGcpFile(gcps, (dir / "gcp.txt").string());
-  ReconstructionOptions options;
+  PointlessMapperOptions options;
   options.gcp_path = (dir / "gcp.txt").string();
   Report report;
-  const ReconstructionOutput out = Reconstruct(tracks, options, &report);
+  const PointlessMapperResult out = PointlessMapper(options).Solve(tracks, &report);
   fs::remove_all(dir);
 
   ASSERT_EQ(out.refined.poses.size(), truth.images.size());

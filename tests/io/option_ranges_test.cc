@@ -19,7 +19,7 @@ namespace fs = std::filesystem;
 // The defaults of every section a command accepts (LoadRunOptions' schema).
 nlohmann::json DefaultSections() {
   const RunOptions o;
-  const ReconstructionOptions& r = o.reconstruction;
+  const PointlessMapperOptions& r = o.reconstruction;
   return {{"features", o.features},
           {"matching", o.matching},
           {"pairs", r.mapper.pairs},

@@ -9,7 +9,7 @@
 
 #include "evaluation/ground_truth.h"
 #include "triplets/triplet_selection.h"
-#include "mapper/global_mapper.h"
+#include "mapper/pointless_mapper.h"
 #include "pgba/geometry/rotation.h"
 #include "synthetic/synthetic_scene.h"
 #include "tests/averaging/relative_motion_fixture.h"

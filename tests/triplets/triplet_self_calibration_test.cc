@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "evaluation/ground_truth.h"
-#include "mapper/global_mapper.h"
+#include "mapper/pointless_mapper.h"
 #include "tests/local_hessian/ring_scene.h"
 
 namespace pgba {

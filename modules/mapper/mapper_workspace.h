@@ -1,0 +1,31 @@
+// The PointlessMapper's artefacts on disk (ARCHITECTURE.md, "Workspace"): what each step
+// writes, and the reading back that lets a re-run start after them.
+//   steps 1-4: pairs.json, triplets.json (kept triplets with their similarities), init/
+//   step 5:    local_hessians.json
+//   step 8:    sparse/ (COLMAP text model), points.ply
+#pragma once
+
+#include <string>
+
+#include "mapper/pointless_mapper.h"
+
+namespace pgba {
+
+// WS/pairs.json, WS/triplets.json and WS/init/ (COLMAP text model: the mapper's cameras, the
+// initial poses, the points triangulated with them).
+void WriteGlobalMapperWorkspace(const std::string& workspace, const Reconstruction& tracks,
+                                const GlobalMapperResult& result);
+
+// The artefacts of an earlier `init` or `reconstruct` in `workspace`: WS/pairs.json,
+// WS/triplets.json and the initial poses of WS/init/ (matched to `tracks` by image name), and
+// WS/local_hessians.json where present (stage "workspace" of `report`; the motions are chosen
+// again from the initial poses, the file holding each one's model). A missing or foreign
+// artefact is an InputError naming the file.
+PointlessMapperResult ReadMapperWorkspace(const Reconstruction& tracks, const std::string& workspace,
+                                          const PointlessMapperOptions& options, Report* report);
+
+// The workspace of `init` (WriteGlobalMapperWorkspace), OUT/local_hessians.json, OUT/sparse/
+// and OUT/points.ply.
+void WriteReconstruction(const std::string& out, const Reconstruction& tracks, const PointlessMapperResult& result);
+
+}  // namespace pgba

@@ -1,0 +1,83 @@
+// PointlessMapper: the paper's pipeline (section 3.3) from tracks to poses and points, as the
+// numbered steps of one Solve():
+//   1. view graph: the verified image pairs (the front end's geometries where given)
+//   2. focals from the view graph, for the cameras without a prior focal
+//   3. triplets: the relative motion of three views from their own BA
+//   4. rotation and translation averaging: the initial poses, each triplet's similarity
+//   5. relative motions and their local Hessians (paper eqs. 1-3)
+//   6. GCPs: the initial solution moved into their frame (with a GCP file)
+//   7. pointless global BA (paper eq. 5), re-linearised at its solution
+//   8. points triangulated with the final poses
+// `pgba init` runs steps 1-4 (RunGlobalMapper), `pgba reconstruct` and `pgba run` all of them;
+// a workspace re-run (ReadMapperWorkspace, mapper_workspace.h) starts with the artefacts of steps 1-5 on disk, and
+// Solve runs only the steps whose artefact it does not hold.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "global_ba/gcp_alignment.h"
+#include "mapper/convergence_curve.h"
+#include "mapper/global_mapper.h"
+#include "mapper/pose_refinement.h"
+#include "pgba/io/json_config.h"
+#include "pgba/io/report.h"
+#include "pgba/scene/reconstruction.h"
+
+namespace pgba {
+
+struct PointlessMapperOptions {
+  GlobalMapperOptions mapper;    // steps 1-4: sections "pairs", "calibration", "triplets", "global_init"
+  RefinementOptions refinement;  // steps 5, 7: "local_motions", "local_hessian", "global_ba", "intrinsics"
+  // Optional GCP file (io/gcp_file.h; empty: none): step 6 moves the initial solution into the
+  // GCP frame and the pointless global BA gets GCP residuals (gcp_residual.h).
+  std::string gcp_path;
+  GcpOptions gcp;  // section "gcp"
+  // The sigma curve over the pointless BA's iterations (paper Figure 3) in the report.
+  bool record_convergence = false;  // not a config key (`pgba run` sets it)
+  ConvergenceOptions convergence;   // section "convergence"
+  // Stop after step 4, the initial solution (`pgba init`). Not a config key.
+  bool skip_refinement = false;
+
+  // Empty if valid, else "section.key: problem" for the first invalid option.
+  std::string Check() const;
+};
+void AddPointlessMapperSections(ConfigSchema* schema);
+// Reads every section of `config`; InputError naming the file and key for an option that
+// fails its Check().
+void ReadPointlessMapperOptions(const Config& config, PointlessMapperOptions* options);
+
+// The artefacts of the steps, in step order.
+struct PointlessMapperResult {
+  GlobalMapperResult initial;  // steps 1-4 (initial.init.success: done)
+  PreparedHessians hessians;   // step 5 (motions empty: not done)
+  RefinementResult refined;    // step 7
+  Reconstruction model;        // step 8: the tracks triangulated with the refined poses
+  ConvergenceCurve convergence;
+};
+
+class PointlessMapper {
+ public:
+  // std::invalid_argument for options that fail Check().
+  explicit PointlessMapper(PointlessMapperOptions options);
+
+  // Runs the steps whose artefact `state` does not hold yet (all of them from an empty state),
+  // each timed in `report` as a stage ("pairs", "focal_estimation", "pairs_recalibrated",
+  // "triplets", "global_init", "local_hessians", "gcp_alignment", "global_ba", "gcp_check",
+  // "convergence", "triangulation"). `front_end`: the image front end's verified geometries
+  // of these tracks (`pgba run`), or null. InputError when no reconstruction is possible,
+  // with the reason.
+  PointlessMapperResult Solve(const Reconstruction& tracks, Report* report, PointlessMapperResult state = {},
+                              const std::vector<TwoViewGeometry>* front_end = nullptr) const;
+
+  const PointlessMapperOptions& options() const { return options_; }
+
+ private:
+  PointlessMapperOptions options_;
+};
+
+// Steps 1-4 alone (the initial solution), as `pgba init` and `pgba benchmark` run them.
+GlobalMapperResult RunGlobalMapper(const Reconstruction& tracks, const GlobalMapperOptions& options, Report* report,
+                                   const std::vector<TwoViewGeometry>* front_end = nullptr);
+
+}  // namespace pgba
