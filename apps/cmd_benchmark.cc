@@ -76,7 +76,7 @@ void RegisterBenchmark(CLI::App& app) {
     const fs::path out(args->out);
     fs::create_directories(out / "models");
     for (const MethodOutcome& m : result.methods)
-      WriteColmapText(m.model, (out / "models" / RefinementMethodName(m.refinement.method)).string());
+      WriteColmapText(m.model, (out / "models" / RefinementMethodName(m.method)).string());
     nlohmann::json j = result.ToJson();
     j["init"]["stages"] = report.json()["stages"];
     j["tracks"] = args->tracks;

@@ -39,6 +39,7 @@ MethodOutcome RunMethod(RefinementMethod method, const Reconstruction& tracks, c
                         const std::vector<LoopCorrespondence>* loops, const BenchmarkOptions& options,
                         double hessians_cpu_seconds) {
   MethodOutcome m;
+  m.method = method;
   const CpuTimer cpu;
   m.refinement =
       RefinePoses(method, tracks, init.init.poses, init.init.triplets, hessians, options.refinement, options.convergence);
@@ -165,7 +166,7 @@ nlohmann::json BenchmarkResult::ToJson() const {
     e["convergence"] = nlohmann::json::array();
     for (double s : m.convergence) e["convergence"].push_back(NumberOrNull(s));
     e["details"]["method"] = r.details;
-    j["methods"][RefinementMethodName(r.method)] = e;
+    j["methods"][RefinementMethodName(m.method)] = e;
   }
   for (const auto& [name, reason] : skipped) j["skipped"][name] = reason;
   if (!sweep.empty()) {
@@ -212,7 +213,7 @@ void PrintBenchmarkTables(const BenchmarkResult& result, std::ostream& out) {
   out << line;
   for (const MethodOutcome& m : result.methods) {
     const RefinementResult& r = m.refinement;
-    std::snprintf(line, sizeof(line), "%-22s %10s %10s %10d %6d %11.4f %11.4f %9.1f\n", DisplayName(r.method),
+    std::snprintf(line, sizeof(line), "%-22s %10s %10s %10d %6d %11.4f %11.4f %9.1f\n", DisplayName(m.method),
                   FormatNumber("%.4f", sigma_init).c_str(), FormatNumber("%.4f", SigmaOrNaN(m.metrics.sigma)).c_str(), r.num_params,
                   r.iterations, r.adjust_seconds, r.prepare_seconds, r.peak_rss_mb);
     out << line;
@@ -229,7 +230,7 @@ void PrintBenchmarkTables(const BenchmarkResult& result, std::ostream& out) {
     out << line;
     for (const MethodOutcome& m : result.methods) {
       const bool ok = m.metrics.loop && m.metrics.loop->Computable();
-      std::snprintf(line, sizeof(line), "%-22s %12s %12s %10d\n", DisplayName(m.refinement.method),
+      std::snprintf(line, sizeof(line), "%-22s %12s %12s %10d\n", DisplayName(m.method),
                     FormatNumber("%.3f", ok ? m.metrics.loop->rms : kNaN).c_str(),
                     FormatNumber("%.3f", ok ? m.metrics.loop->median : kNaN).c_str(), m.refinement.num_params);
       out << line;
@@ -255,13 +256,13 @@ void PrintBenchmarkTables(const BenchmarkResult& result, std::ostream& out) {
       out << line;
     };
     row("initial poses", result.init_metrics);
-    for (const MethodOutcome& m : result.methods) row(DisplayName(m.refinement.method), m.metrics);
+    for (const MethodOutcome& m : result.methods) row(DisplayName(m.method), m.metrics);
   }
   const MethodOutcome* pl = nullptr;
   const MethodOutcome* pb = nullptr;
   for (const MethodOutcome& m : result.methods) {
-    if (m.refinement.method == RefinementMethod::kPointless) pl = &m;
-    if (m.refinement.method == RefinementMethod::kPointBased) pb = &m;
+    if (m.method == RefinementMethod::kPointless) pl = &m;
+    if (m.method == RefinementMethod::kPointBased) pb = &m;
   }
   if (pl && pb) {
     const double sp = SigmaOrNaN(pl->metrics.sigma), sb = SigmaOrNaN(pb->metrics.sigma);
@@ -310,7 +311,7 @@ std::string ConvergencePlot(const BenchmarkResult& result) {
   std::vector<PlotSeries> series;
   for (const MethodOutcome& m : result.methods) {
     PlotSeries s;
-    s.name = DisplayName(m.refinement.method);
+    s.name = DisplayName(m.method);
     for (size_t i = 0; i < m.convergence.size(); ++i) {
       s.x.push_back(static_cast<double>(i));
       s.y.push_back(m.convergence[i]);

@@ -15,6 +15,7 @@
 
 #include "evaluation/evaluation.h"
 #include "mapper/pointless_mapper.h"
+#include "benchmark/baselines.h"
 #include "mapper/pose_refinement.h"
 #include "pgba/scene/reconstruction.h"
 
@@ -37,6 +38,7 @@ struct BenchmarkOptions {
 };
 
 struct MethodOutcome {
+  RefinementMethod method = RefinementMethod::kPointless;
   RefinementResult refinement;
   Reconstruction model;  // tracks triangulated with the refined poses
   EvaluationMetrics metrics;

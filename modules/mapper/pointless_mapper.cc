@@ -141,8 +141,8 @@ RefinementResult AdjustPointless(const Reconstruction& tracks, const GlobalInitR
                                  const PreparedHessians& hessians, const PointlessMapperOptions& options,
                                  const GcpInput* gcps, Report* report) {
   StageTimer timer(report, "global_ba");
-  RefinementResult refined = RefinePoses(RefinementMethod::kPointless, tracks, init.poses, init.triplets, &hessians,
-                                         options.refinement, options.record_convergence, gcps);
+  RefinementResult refined =
+      RefinePointless(tracks, init.poses, hessians, options.refinement, options.record_convergence, gcps);
   nlohmann::json& stage = timer.Stop();
   stage["params"] = refined.num_params;
   stage["iterations"] = refined.iterations;

@@ -5,28 +5,12 @@
 #include <string>
 
 #include "mapper/linearization_start.h"
-#include "mapper/triplet_split_tracks.h"
 #include "pgba/io/report.h"
-#include "pgba/scene/triangulate_model.h"
 #include "pgba/util/error.h"
 #include "pgba/util/logging.h"
 #include "pgba/util/timer.h"
 
 namespace pgba {
-
-const char* RefinementMethodName(RefinementMethod method) {
-  switch (method) {
-    case RefinementMethod::kPointless:
-      return "pointless";
-    case RefinementMethod::kPointBased:
-      return "pointbased";
-    case RefinementMethod::kAveraging:
-      return "averaging";
-    case RefinementMethod::kPointBasedSplit:
-      return "pointbased_split";
-  }
-  return "unknown";
-}
 
 LocalHessianOptions WholeTrackLocalHessianOptions() {
   LocalHessianOptions o;
@@ -119,16 +103,6 @@ PreparedHessians PrepareLocalHessians(const Reconstruction& tracks, const std::m
   return out;
 }
 
-namespace {
-
-std::map<uint32_t, Pose> PosesOf(const Reconstruction& rec) {
-  std::map<uint32_t, Pose> poses;
-  for (const auto& [id, im] : rec.images) poses[id] = im.pose;
-  return poses;
-}
-
-// Report rows of a camera's intrinsics: {camera_id, model, free: [{index, initial, final,
-// stddev}]} (stddev null where not computed).
 nlohmann::json IntrinsicsRecord(uint32_t id, const Camera& camera, const std::vector<int>& free,
                                 const Eigen::VectorXd& initial, const Eigen::VectorXd& final_values,
                                 const Eigen::VectorXd& stddev) {
@@ -148,78 +122,10 @@ nlohmann::json IntrinsicsRecord(uint32_t id, const Camera& camera, const std::ve
           {"final_params", camera.params}};
 }
 
-RefinementResult RefinePointBased(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
-                                  const PointBasedOptions& options, const FreeIntrinsics& free, bool record_history) {
-  RefinementResult r;
-  ResetPeakRss();
-  Timer prepare;
-  Reconstruction model = TriangulateModel(tracks, initial);
-  r.prepare_seconds = prepare.Seconds();
-  if (model.points3D.empty()) throw InputError("point-based BA: no track could be triangulated");
-
-  BundleAdjustmentProblem problem;
-  ChooseGauge(model, &problem);
-  problem.free_intrinsics = free;
-  if (record_history) {
-    r.history.push_back(PosesOf(model));
-    problem.callback = [&r](const BundleAdjustmentIteration& it) {
-      if (it.iteration > 0) r.history.push_back(PosesOf(*it.state));
-    };
-  }
-  r.num_params = 6 * static_cast<int>(model.images.size()) + 3 * static_cast<int>(model.points3D.size());
-  for (const auto& [id, f] : free) r.num_params += static_cast<int>(f.size());
-  const bool two_passes = options.filter_max_error_px > 0;
-  BundleAdjusterOptions first_pass = options.bundle;
-  if (two_passes && !options.first_pass_loss.empty()) first_pass.loss = options.first_pass_loss;
-  Timer adjust;
-  const BundleAdjustmentSummary first = BundleAdjust(problem, first_pass, &model);
-  if (!first.usable) throw InputError("point-based BA: solver failure: " + first.message);
-  r.iterations = first.iterations;
-  size_t filtered = 0;
-  if (two_passes) {
-    filtered = FilterObservations(options.filter_max_error_px, &model);
-    // The final pass always runs: it is the configured loss on the kept observations.
-    const BundleAdjustmentSummary second = BundleAdjust(problem, options.bundle, &model);
-    if (!second.usable) throw InputError("point-based BA: solver failure: " + second.message);
-    r.iterations += second.iterations;
-  }
-  r.adjust_seconds = adjust.Seconds();
-  r.peak_rss_mb = PeakRssMb();
-  r.poses = PosesOf(model);
-  if (!free.empty()) {
-    r.cameras = model.cameras;
-    for (const auto& [id, f] : free) {
-      const Eigen::VectorXd nan = Eigen::VectorXd::Constant(f.size(), std::numeric_limits<double>::quiet_NaN());
-      r.intrinsics.push_back(IntrinsicsRecord(id, model.cameras.at(id), f, GatherIntrinsics(tracks.cameras.at(id), f),
-                                              GatherIntrinsics(model.cameras.at(id), f), nan));
-    }
-  }
-  r.details = {{"points", model.points3D.size()},
-               {"observations", first.num_observations},
-               {"observations_filtered", filtered},
-               {"linear_solver", first.linear_solver},
-               {"converged", first.converged}};
-  return r;
-}
-
-RefinementResult RefineWithMotions(RefinementMethod method, const Reconstruction& tracks,
-                                   const std::map<uint32_t, Pose>& initial, const PreparedHessians& hessians,
-                                   const RefinementOptions& options, bool record_history, const GcpInput* gcps) {
+RefinementResult RefinementOfGlobalBA(const Reconstruction& tracks, const PreparedHessians& hessians,
+                                     const RefinementOptions& options, const GlobalBAResult& g) {
   RefinementResult r;
   r.prepare_seconds = hessians.seconds;
-  ResetPeakRss();
-  GlobalBAIterationCallback callback;
-  if (record_history) callback = [&r](const GlobalBAIteration& it) { r.history.push_back(*it.poses); };
-  // Pointless: with the local Hessians re-linearised at the solution where the models
-  // disagree (global_ba.h); their passes count as adjustment time.
-  GlobalBAOptions pointless = options.global_ba;
-  if (hessians.triplet_start) pointless.max_relinearizations = pointless.max_relinearizations_far_start;
-  const std::map<uint32_t, Pose>& start = hessians.triplet_start ? hessians.linearization_poses : initial;
-  const GlobalBAResult g =
-      method == RefinementMethod::kPointless
-          ? RelinearizedGlobalBA(tracks, options.local_hessian, start, hessians.motions, hessians.result.hessians,
-                                 pointless, callback, gcps)
-          : AveragingGlobalBA(start, hessians.motions, hessians.result.hessians, options.global_ba, callback, gcps);
   r.adjust_seconds = g.summary.seconds;
   r.peak_rss_mb = std::max(PeakRssMb(), hessians.peak_rss_mb);
   r.poses = g.poses;
@@ -241,49 +147,48 @@ RefinementResult RefineWithMotions(RefinementMethod method, const Reconstruction
                {"rounds", g.summary.rounds},
                {"fitting_scale", g.summary.robust_scale},
                {"local_hessians", LocalHessianStatusCounts(hessians.result)}};
-  if (method == RefinementMethod::kPointless) {
-    r.details["misfit_ratio_initial"] = NumberOrNull(g.summary.misfit_ratio_initial);
-    r.details["misfit_ratio"] = NumberOrNull(g.summary.misfit_ratio);
-    r.details["relinearizations"] = g.summary.relinearizations;
-    r.details["relinearization_seconds"] = g.summary.relinearization_seconds;
-    r.details["triplet_rotation_misfit"] = hessians.triplet_rotation_misfit;
-    r.details["triplet_start"] = hessians.triplet_start;
-  }
-  if (gcps) r.details["gcp_residuals"] = g.summary.num_gcp_residuals;
   return r;
 }
 
-}  // namespace
-
-RefinementResult RefinePoses(RefinementMethod method, const Reconstruction& tracks,
-                             const std::map<uint32_t, Pose>& initial, const std::vector<Triplet>& triplets,
-                             const PreparedHessians* hessians, const RefinementOptions& options,
-                             bool record_history, const GcpInput* gcps) {
-  RefinementResult r;
-  if (method == RefinementMethod::kPointBased) {
-    r = RefinePointBased(tracks, initial, options.point_based, SelectRefinedIntrinsics(tracks, options), record_history);
-  } else if (method == RefinementMethod::kPointBasedSplit) {
-    Timer split;
-    // Over the motions the local hessians model (the triplets unless local_motions.views > 3).
-    const Reconstruction split_tracks =
-        hessians ? SplitTracksByMotions(tracks, hessians->motions) : SplitTracksByTriplets(tracks, triplets);
-    const double split_seconds = split.Seconds();
-    r = RefinePointBased(split_tracks, initial, options.point_based, SelectRefinedIntrinsics(tracks, options),
-                         record_history);
-    r.prepare_seconds += split_seconds;
-  } else {
-    if (!hessians) throw std::invalid_argument("RefinePoses: local hessians are required for this method");
-    r = RefineWithMotions(method, tracks, initial, *hessians, options, record_history, gcps);
-  }
-  r.method = method;
+void CheckRefinedCameras(const RefinementResult& r) {
   for (const auto& [id, camera] : r.cameras)  // a distortion estimated past invertibility, a focal <= 0
     if (const std::string problem = camera.Validate(); !problem.empty())
       throw InputError("self-calibration: the intrinsics estimated for camera " + std::to_string(id) +
                        " are unusable (" + problem +
                        "); hold them with intrinsics.cameras = \"none\" or intrinsics.refine_extra_params = false");
-  PGBA_LOG_INFO << RefinementMethodName(method) << ": " << r.poses.size() << " poses, " << r.num_params
-                << " unknowns, " << r.iterations << " iterations, adjustment " << r.adjust_seconds
-                << " s (preparation " << r.prepare_seconds << " s)";
+}
+
+void LogRefinement(const char* method, const RefinementResult& r) {
+  PGBA_LOG_INFO << method << ": " << r.poses.size() << " poses, " << r.num_params << " unknowns, " << r.iterations
+                << " iterations, adjustment " << r.adjust_seconds << " s (preparation " << r.prepare_seconds << " s)";
+}
+
+RefinementResult RefinePointless(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
+                                 const PreparedHessians& hessians, const RefinementOptions& options,
+                                 bool record_history, const GcpInput* gcps) {
+  ResetPeakRss();
+  std::vector<std::map<uint32_t, Pose>> history;
+  GlobalBAIterationCallback callback;
+  if (record_history) callback = [&history](const GlobalBAIteration& it) { history.push_back(*it.poses); };
+  // The local Hessians re-linearised at the solution (global_ba.h); their passes count as
+  // adjustment time. Far from the triplets, the motions were linearised at the triplets'
+  // pointless BA, which is where the global BA starts too.
+  GlobalBAOptions pointless = options.global_ba;
+  if (hessians.triplet_start) pointless.max_relinearizations = pointless.max_relinearizations_far_start;
+  const std::map<uint32_t, Pose>& start = hessians.triplet_start ? hessians.linearization_poses : initial;
+  const GlobalBAResult g = RelinearizedGlobalBA(tracks, options.local_hessian, start, hessians.motions,
+                                                hessians.result.hessians, pointless, callback, gcps);
+  RefinementResult r = RefinementOfGlobalBA(tracks, hessians, options, g);
+  r.history = std::move(history);
+  r.details["misfit_ratio_initial"] = NumberOrNull(g.summary.misfit_ratio_initial);
+  r.details["misfit_ratio"] = NumberOrNull(g.summary.misfit_ratio);
+  r.details["relinearizations"] = g.summary.relinearizations;
+  r.details["relinearization_seconds"] = g.summary.relinearization_seconds;
+  r.details["triplet_rotation_misfit"] = hessians.triplet_rotation_misfit;
+  r.details["triplet_start"] = hessians.triplet_start;
+  if (gcps) r.details["gcp_residuals"] = g.summary.num_gcp_residuals;
+  CheckRefinedCameras(r);
+  LogRefinement("pointless", r);
   return r;
 }
 

@@ -1,15 +1,10 @@
-// The final adjustment of the initial global solution (paper steps 3 and 4), by one of three
-// methods that start from the same initial poses and the same tracks:
-//   pointless  — local Hessian BA per relative motion (section 3, eqs. 1-3: the triplets,
-//                or motions of N views, local_motions.h), then the pointless global BA
-//                weighted by the 6N x 6N reduced camera matrices (eq. 5; 18x18 per triplet);
-//   averaging  — Aver_BA: the same relative motions and solver, scalar weights instead of
-//                the Hessians (IRLS motion averaging, the paper's baseline);
-//   pointbased — classical BA over poses and triangulated points (Huber, Schur complement);
-//   pointbased_split — the same BA over the triplets' own tracks (triplet_split_tracks.h):
-//                the exact objective that the pointless BA approximates (a diagnostic).
-// `pgba reconstruct` runs the first; `pgba benchmark` runs the first three on one
-// initialisation (and the fourth with --triplet-split).
+// The final adjustment of the initial global solution (paper steps 3 and 4; PointlessMapper
+// step 7): local Hessian BA per relative motion (section 3, eqs. 1-3: the triplets, or motions
+// of N views, local_motions.h), then the pointless global BA weighted by the 6N x 6N reduced
+// camera matrices (eq. 5; 18x18 per triplet), re-linearised at its solution. Its options (the
+// config sections of the refinement, the point-based baseline's included, so that one preset
+// serves `reconstruct` and `benchmark`) and its result; the baselines `pgba benchmark`
+// compares it with are benchmark/baselines.h.
 #pragma once
 
 #include <cstdint>
@@ -28,13 +23,6 @@
 #include "pgba/scene/view_graph.h"
 
 namespace pgba {
-
-enum class RefinementMethod { kPointless, kPointBased, kAveraging, kPointBasedSplit };
-// "pointless", "pointbased", "averaging", "pointbased_split" (the benchmark's method and
-// model folder names).
-const char* RefinementMethodName(RefinementMethod method);
-constexpr RefinementMethod kAllRefinementMethods[] = {RefinementMethod::kPointless, RefinementMethod::kPointBased,
-                                                      RefinementMethod::kAveraging};
 
 struct PointBasedOptions {
   // The final adjustment (Huber at 1 px: the robust loss the local Hessians use).
@@ -87,7 +75,6 @@ void AddRefinementSections(ConfigSchema* schema);
 void ReadRefinementOptions(const Config& config, RefinementOptions* options);
 
 struct RefinementResult {
-  RefinementMethod method = RefinementMethod::kPointless;
   std::map<uint32_t, Pose> poses;  // refined poses (images the method could adjust)
   std::vector<uint32_t> excluded_images;  // initial poses the method could not adjust
   // With self-calibration: the refined cameras (the tracks' cameras with the estimated
@@ -135,14 +122,28 @@ void MeasureTripletStart(const Reconstruction& tracks, const std::map<uint32_t, 
                          const std::vector<Triplet>& triplets, const LocalMotionOptions& options,
                          PreparedHessians* hessians);
 
-// Refines `initial` by `method`. `hessians` (from PrepareLocalHessians on the same
-// initialisation) is required for pointless and averaging and ignored by pointbased. Throws
-// InputError when the method cannot run (no usable triplet, no point). Optional `gcps`:
-// GCP residuals of the pointless / averaging global BA (`initial` already in the GCP frame,
-// gcp_alignment.h); ignored by pointbased.
-RefinementResult RefinePoses(RefinementMethod method, const Reconstruction& tracks,
-                             const std::map<uint32_t, Pose>& initial, const std::vector<Triplet>& triplets,
-                             const PreparedHessians* hessians, const RefinementOptions& options,
-                             bool record_history = false, const GcpInput* gcps = nullptr);
+// Step 7: the pointless global BA from `initial` on `hessians` (from PrepareLocalHessians on
+// the same initialisation), re-linearised at its solution (global_ba.h). With
+// `record_history`, the poses before the first and after every iteration. Optional `gcps`:
+// GCP residuals (`initial` already in the GCP frame, gcp_alignment.h). InputError when no
+// usable motion is left or self-calibration estimated unusable intrinsics.
+RefinementResult RefinePointless(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
+                                 const PreparedHessians& hessians, const RefinementOptions& options,
+                                 bool record_history = false, const GcpInput* gcps = nullptr);
+
+// The parts a global BA on the motions `hessians` fills (poses, intrinsics, counts, times),
+// shared with the benchmark's Aver_BA.
+RefinementResult RefinementOfGlobalBA(const Reconstruction& tracks, const PreparedHessians& hessians,
+                                      const RefinementOptions& options, const GlobalBAResult& g);
+// Report rows of a camera's intrinsics: {camera_id, model, params: [{index, name, initial,
+// final, stddev}], final_params} (stddev null where not computed).
+nlohmann::json IntrinsicsRecord(uint32_t id, const Camera& camera, const std::vector<int>& free,
+                                const Eigen::VectorXd& initial, const Eigen::VectorXd& final_values,
+                                const Eigen::VectorXd& stddev);
+// InputError if self-calibration left a camera unusable (a distortion past invertibility, a
+// focal <= 0).
+void CheckRefinedCameras(const RefinementResult& r);
+// The one log line of a refinement method's result.
+void LogRefinement(const char* method, const RefinementResult& r);
 
 }  // namespace pgba

@@ -25,7 +25,7 @@ struct Case {
 
 const MethodOutcome& Method(const BenchmarkResult& r, RefinementMethod m) {
   for (const MethodOutcome& o : r.methods)
-    if (o.refinement.method == m) return o;
+    if (o.method == m) return o;
   throw std::runtime_error("method missing");
 }
 
@@ -75,7 +75,7 @@ TEST_P(BenchmarkOnScene, PaperTripletsReachPointBasedSigmaWithFarFewerUnknowns) 
   // final sigma; the JSON carries the ARCHITECTURE.md keys.
   for (const MethodOutcome* m : {&pl, &pb, &av}) {
     ASSERT_EQ(m->convergence.size(), static_cast<size_t>(m->refinement.iterations) + 1)
-        << RefinementMethodName(m->refinement.method);
+        << RefinementMethodName(m->method);
     EXPECT_NEAR(m->convergence.front(), r.init_metrics.sigma.rms, 1e-9);
   }
   EXPECT_NEAR(pl.convergence.back(), pl.metrics.sigma.rms, 1e-9);

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "benchmark/baselines.h"
 #include "evaluation/ground_truth.h"
 #include "mapper/pointless_mapper.h"
 #include "synthetic/synthetic_scene.h"

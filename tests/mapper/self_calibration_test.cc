@@ -12,6 +12,7 @@
 #include <iostream>
 #include <random>
 
+#include "benchmark/baselines.h"
 #include "evaluation/ground_truth.h"
 #include "mapper/pose_refinement.h"
 #include "mapper/run_pipeline.h"

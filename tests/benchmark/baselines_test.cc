@@ -5,7 +5,7 @@
 // that the noise alone gives this weak block (tests/optim/bundle_adjuster_test.cc, outliers
 // removed beforehand). A Huber first pass ended at 0.62 px and 0.9 deg instead: its linear
 // tail let the gross outliers hold the poses (PointBasedOptions::first_pass_loss).
-#include "mapper/pose_refinement.h"
+#include "benchmark/baselines.h"
 
 #include <gtest/gtest.h>
 

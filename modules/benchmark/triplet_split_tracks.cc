@@ -1,4 +1,4 @@
-#include "mapper/triplet_split_tracks.h"
+#include "benchmark/triplet_split_tracks.h"
 
 #include <algorithm>
 
