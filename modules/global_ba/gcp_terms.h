@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "modules/global_ba/gcp_constraint.h"
+#include "modules/gcp/gcp_constraint.h"
 #include "modules/global_ba/gcp_residual.h"
 #include "modules/local_hessian/local_hessian.h"
 

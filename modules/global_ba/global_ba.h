@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "modules/global_ba/gcp_constraint.h"
+#include "modules/gcp/gcp_constraint.h"
 #include "modules/local_hessian/local_hessian.h"
 #include "pgba/geometry/pose.h"
 #include "pgba/geometry/sim3.h"

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "global_ba/gcp_alignment.h"
+#include "gcp/gcp_alignment.h"
 #include "mapper/convergence_curve.h"
 #include "mapper/global_mapper.h"
 #include "mapper/pose_refinement.h"

@@ -3,7 +3,7 @@
 // mapped onto their given coordinates by a least-squares similarity T (Umeyama), and T is
 // applied to every initial pose; each triplet's global->local similarity d_s becomes
 // d_s T^-1, so that the local frames and the relative motions are unchanged. The global BA
-// that follows then starts in the GCP frame and its GCP residuals (gcp_residual.h) only
+// that follows then starts in the GCP frame and its GCP residuals (global_ba/gcp_residual.h) only
 // have to correct what the similarity could not.
 #pragma once
 
@@ -11,7 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
-#include "modules/global_ba/gcp_constraint.h"
+#include "modules/gcp/gcp_constraint.h"
 #include "pgba/geometry/sim3.h"
 #include "pgba/scene/view_graph.h"
 

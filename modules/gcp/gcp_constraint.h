@@ -2,7 +2,7 @@
 // ground control points"): each GCP has given coordinates P in the GCP frame, an accuracy
 // sigma (metres) and pixel observations in images of the reconstruction.
 //
-// Weighting choice (documented here, used by gcp_residual.h): the GCP residual is whitened by
+// Weighting choice (documented here, used by global_ba/gcp_residual.h): the GCP residual is whitened by
 // sigma, r = (P - d_s^-1(p_s)) / sigma, so it is in standard deviations like the triplet
 // residuals (whitened for a 1 px observation noise, h in 1/px^2). A GCP seen by n triplets
 // gives n residuals that all reuse the same few image observations (strongly correlated

@@ -9,7 +9,7 @@
 #include <filesystem>
 
 #include "mapper/pointless_mapper.h"
-#include "modules/global_ba/gcp_alignment.h"
+#include "modules/gcp/gcp_alignment.h"
 #include "modules/global_ba/gcp_residual.h"
 #include "modules/global_ba/global_ba.h"
 #include "pgba/io/gcp_file.h"

@@ -1,4 +1,4 @@
-#include "modules/global_ba/gcp_constraint.h"
+#include "modules/gcp/gcp_constraint.h"
 
 #include <set>
 

@@ -1,4 +1,4 @@
-#include "modules/global_ba/gcp_alignment.h"
+#include "modules/gcp/gcp_alignment.h"
 
 #include <algorithm>
 #include <cmath>
