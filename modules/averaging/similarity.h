@@ -1,15 +1,7 @@
-// The global->local similarity of each triplet (paper eq. 4, ARCHITECTURE.md convention):
-//     X_loc = lambda alpha X + beta,   c_k = lambda alpha C_k + beta,   r_k = R_k alpha^T,
-// given the global poses (R_k, C_k) of its three views and its local poses (r_k, c_k).
-//
-// The rotation comes from the camera rotations, not from the centres: r_k = R_k alpha^T
-// gives alpha = r_k^T R_k for each view, and alpha is the projection onto SO(3) of their
-// mean (the chordal L2 mean). Three centres of a triplet are often nearly collinear (video,
-// aerial strips) and would leave the rotation about their line undetermined (ARCHITECTURE.md,
-// numerical lessons). With alpha fixed, lambda and beta are the linear least-squares fit of
-// the centres (Umeyama's scale and translation with the rotation given):
-//     lambda = sum_k <c_k - c_bar, alpha (C_k - C_bar)> / sum_k |C_k - C_bar|^2,
-//     beta   = c_bar - lambda alpha C_bar.
+// The global->local similarity of each triplet after averaging (paper eq. 4; the estimator,
+// FitMotionSimilarity in pgba/geometry/sim3.h, says how: the rotation from the camera
+// rotations, the scale and translation by least squares on the centres), with the residuals
+// that decide whether the triplet agrees with the averaged poses.
 #pragma once
 
 #include <Eigen/Core>

@@ -31,21 +31,12 @@ void MotionSimilarity::Relinearize() {
 
 MotionSimilarity InitializeSimilarity(const std::vector<Pose>& global_poses, const std::vector<Pose>& local_poses,
                                        const Sim3& fallback) {
+  const MotionSimilarityFit fit = FitMotionSimilarity(global_poses, local_poses);
   MotionSimilarity sim;
-  sim.G = Centroid(global_poses);
-  Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
-  for (size_t k = 0; k < global_poses.size(); ++k) sum += local_poses[k].R().transpose() * global_poses[k].R();
-  sim.alpha0 = ClosestRotation(sum);
-  const Eigen::Vector3d g = Centroid(local_poses);
-  double num = 0.0, den = 0.0;
-  for (size_t k = 0; k < global_poses.size(); ++k) {
-    const Eigen::Vector3d d = sim.alpha0 * (global_poses[k].C() - sim.G);
-    num += (local_poses[k].C() - g).dot(d);
-    den += d.squaredNorm();
-  }
-  const double lambda = den > 0 ? num / den : 0.0;
-  sim.x.head<3>() = g;
-  sim.x(6) = lambda > 0 && std::isfinite(lambda) ? lambda : (fallback.s > 0 ? fallback.s : 1.0);
+  sim.G = fit.global_centroid;
+  sim.alpha0 = fit.alpha;
+  sim.x.head<3>() = fit.local_centroid;
+  sim.x(6) = fit.scale_ok() ? fit.lambda : (fallback.s > 0 ? fallback.s : 1.0);
   return sim;
 }
 

@@ -29,10 +29,10 @@ struct MotionSimilarity {
   void Relinearize();
 };
 
-// Initial similarity from the motion's initial global poses and its local poses x0:
-// alpha = closest rotation to sum_k r_k^T R_k (from the camera rotations, not from nearly
-// collinear centres), lambda by least squares on the centred centres, beta the local
-// centroid. Falls back to `fallback`'s scale when the global centres coincide.
+// Initial similarity from the motion's initial global poses and its local poses x0
+// (FitMotionSimilarity, pgba/geometry/sim3.h), about the global centroid: beta is then the
+// local centroid. Falls back to `fallback`'s scale when the fit has none (coincident global
+// centres).
 MotionSimilarity InitializeSimilarity(const std::vector<Pose>& global_poses, const std::vector<Pose>& local_poses,
                                        const Sim3& fallback);
 

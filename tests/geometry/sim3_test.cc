@@ -152,5 +152,40 @@ TEST(Sim3, ApplyToPoseConsistentWithPoints) {
   }
 }
 
+// Eq. 4's similarity of a motion: local poses made from global ones by a known similarity
+// give it back to rounding, also when the centres lie on a line (a strip, a triplet of a
+// video), where a centre-only fit would leave the roll about the line free.
+TEST(FitMotionSimilarity, RecoversTheSimilarityOfExactLocalPosesEvenOnCollinearCentres) {
+  std::mt19937 rng(7);
+  for (const bool collinear : {false, true}) {
+    for (int trial = 0; trial < 20; ++trial) {
+      const Sim3 S = RandomSim3(rng);
+      std::vector<Pose> global, local;
+      const Eigen::Vector3d direction = RandomVector(rng, 1.0).normalized();
+      for (int k = 0; k < 5; ++k) {
+        const Eigen::Vector3d C = collinear ? Eigen::Vector3d(direction * (10.0 * k)) : RandomVector(rng, 20.0);
+        global.push_back(Pose::FromRC(RandomRotation(rng), C));
+        local.push_back(S.Apply(global.back()));
+      }
+      const MotionSimilarityFit fit = FitMotionSimilarity(global, local);
+      ASSERT_TRUE(fit.scale_ok());
+      const Sim3 est = fit.ToSim3();
+      EXPECT_NEAR(est.s, S.s, 1e-12 * S.s);
+      EXPECT_LT((est.R - S.R).norm(), 1e-12);
+      for (const Pose& g : global) EXPECT_LT((est.Apply(g.C()) - S.Apply(g.C())).norm(), 1e-9 * (1.0 + S.t.norm()));
+    }
+  }
+}
+
+TEST(FitMotionSimilarity, CoincidentGlobalCentresHaveNoScale) {
+  std::mt19937 rng(3);
+  std::vector<Pose> global, local;
+  for (int k = 0; k < 3; ++k) {
+    global.push_back(Pose::FromRC(RandomRotation(rng), Eigen::Vector3d(1, 2, 3)));
+    local.push_back(Pose::FromRC(RandomRotation(rng), RandomVector(rng, 1.0)));
+  }
+  EXPECT_FALSE(FitMotionSimilarity(global, local).scale_ok());
+}
+
 }  // namespace
 }  // namespace pgba

@@ -2,6 +2,9 @@
 
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
+#include <cmath>
+
+#include "pgba/geometry/rotation.h"
 
 namespace pgba {
 
@@ -53,6 +56,41 @@ bool EstimateSim3(const std::vector<Eigen::Vector3d>& src, const std::vector<Eig
   sim->R = sR / sim->s;
   sim->t = T.topRightCorner<3, 1>();
   return true;
+}
+
+namespace {
+Eigen::Vector3d Centroid(const std::vector<Pose>& poses) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (const Pose& p : poses) sum += p.C();
+  return poses.empty() ? sum : Eigen::Vector3d(sum / static_cast<double>(poses.size()));
+}
+}  // namespace
+
+bool MotionSimilarityFit::scale_ok() const { return lambda > 0.0 && std::isfinite(lambda); }
+
+Sim3 MotionSimilarityFit::ToSim3() const {
+  Sim3 sim;
+  sim.s = lambda;
+  sim.R = alpha;
+  sim.t = local_centroid - lambda * (alpha * global_centroid);
+  return sim;
+}
+
+MotionSimilarityFit FitMotionSimilarity(const std::vector<Pose>& global, const std::vector<Pose>& local) {
+  MotionSimilarityFit fit;
+  Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
+  for (size_t k = 0; k < global.size(); ++k) sum += local[k].R().transpose() * global[k].R();
+  fit.alpha = ClosestRotation(sum);
+  fit.global_centroid = Centroid(global);
+  fit.local_centroid = Centroid(local);
+  double num = 0.0, den = 0.0;
+  for (size_t k = 0; k < global.size(); ++k) {
+    const Eigen::Vector3d d = fit.alpha * (global[k].C() - fit.global_centroid);
+    num += (local[k].C() - fit.local_centroid).dot(d);
+    den += d.squaredNorm();
+  }
+  fit.lambda = den > 0.0 ? num / den : 0.0;
+  return fit;
 }
 
 }  // namespace pgba
