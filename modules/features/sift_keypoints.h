@@ -24,11 +24,18 @@ struct SiftKeypoint {
 struct SiftDetectionOptions {
   double contrast_threshold = 0.02;  // on |DoG| * layers_per_octave, grey levels 0..1
   double edge_threshold = 10.0;      // maximal ratio of principal curvatures
+  // > 0: the caller keeps only the max_features strongest oriented keypoints (by response,
+  // which does not depend on the orientation), so orientations are computed only for the
+  // extrema that can be among them: every extremum whose response reaches that of the
+  // max_features-th oriented keypoint (ties included). The caller's cap then selects exactly
+  // what it would from all of them. <= 0: every extremum is oriented.
+  int max_features = 0;
 };
 
 // Keypoints in a deterministic order (octave, layer, row, column, orientation peak),
 // whatever the number of threads: the search runs in parallel over fixed blocks of rows
-// whose results are concatenated in block order.
+// whose results are concatenated in block order. With options.max_features > 0 the weaker
+// extrema that cannot be among the strongest max_features are left out (see above).
 std::vector<SiftKeypoint> DetectSiftKeypoints(const SiftScaleSpace& ss, const SiftDetectionOptions& options);
 
 }  // namespace pgba
