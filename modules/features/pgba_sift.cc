@@ -17,13 +17,21 @@ void DetectAndDescribePgbaSift(const cv::Mat& gray, const PgbaSiftParams& params
                                cv::Mat* descriptors) {
   CV_Assert(gray.type() == CV_8UC1);
   Timer timer;  // stage times in the debug log: where the time of one image goes
-  const SiftScaleSpace ss = BuildSiftScaleSpace(gray, params.upsample);
-  const double t_pyramid = timer.Seconds();
   SiftDetectionOptions detection;
   detection.contrast_threshold = params.contrast_threshold;
   detection.edge_threshold = params.edge_threshold;
   detection.max_features = params.max_features;
-  const std::vector<SiftKeypoint> found = DetectSiftKeypoints(ss, detection);
+  // Each octave's extrema as soon as it is built: its detection-only layers then make room
+  // for the next octaves (sift_scale_space.h).
+  std::vector<SiftExtremum> extrema;
+  double t_extrema = 0;
+  const SiftScaleSpace ss = BuildSiftScaleSpace(gray, params.upsample, [&](const SiftScaleSpace& s, int octave) {
+    const double t0 = timer.Seconds();
+    FindSiftExtrema(s, octave, detection, &extrema);
+    t_extrema += timer.Seconds() - t0;
+  });
+  const double t_pyramid = timer.Seconds() - t_extrema;
+  const std::vector<SiftKeypoint> found = OrientSiftExtrema(ss, extrema, detection);
   const double t_detect = timer.Seconds();
 
   // Octave pixels -> input pixels (the doubled image's pixels are half an input pixel).

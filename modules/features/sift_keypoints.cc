@@ -182,17 +182,9 @@ void AddOriented(const SiftScaleSpace& ss, const SiftKeypoint& kp, int r, int c,
   }
 }
 
-// A refined extremum before its orientations: kp without an angle, and the integer sample
-// (row, col of its layer) where the refinement ended, around which the orientation
-// histogram is taken.
-struct Extremum {
-  SiftKeypoint kp;
-  int row, col;
-};
-
 // Extrema of one block of rows of octave b.octave, out[l - 1] those of DoG layer l (1..s).
 void SearchBlock(const SiftScaleSpace& ss, const Block& b, const SiftDetectionOptions& opt,
-                 std::vector<std::vector<Extremum>>* out) {
+                 std::vector<std::vector<SiftExtremum>>* out) {
   const std::vector<cv::Mat>& g = ss.gaussians[b.octave];
   const int s = ss.layers_per_octave;
   const int cols = g[0].cols;
@@ -222,26 +214,22 @@ void SearchBlock(const SiftScaleSpace& ss, const Block& b, const SiftDetectionOp
 
 }  // namespace
 
-std::vector<SiftKeypoint> DetectSiftKeypoints(const SiftScaleSpace& ss, const SiftDetectionOptions& options) {
+void FindSiftExtrema(const SiftScaleSpace& ss, int octave, const SiftDetectionOptions& options,
+                     std::vector<SiftExtremum>* extrema) {
   std::vector<Block> blocks;
-  std::vector<size_t> first_block_of_octave;
-  for (int o = 0; o < ss.num_octaves(); ++o) {
-    first_block_of_octave.push_back(blocks.size());
-    const int rows = ss.gaussians[o][0].rows, cols = ss.gaussians[o][0].cols;
-    if (rows <= 2 * kBorder || cols <= 2 * kBorder) continue;
-    for (int r = kBorder; r < rows - kBorder; r += kBlockRows)
-      blocks.push_back({o, r, std::min(r + kBlockRows, rows - kBorder)});
-  }
-  first_block_of_octave.push_back(blocks.size());
-  std::vector<std::vector<std::vector<Extremum>>> found(blocks.size());
+  const int rows = ss.gaussians[octave][0].rows, cols = ss.gaussians[octave][0].cols;
+  if (rows <= 2 * kBorder || cols <= 2 * kBorder) return;
+  for (int r = kBorder; r < rows - kBorder; r += kBlockRows)
+    blocks.push_back({octave, r, std::min(r + kBlockRows, rows - kBorder)});
+  std::vector<std::vector<std::vector<SiftExtremum>>> found(blocks.size());
   tbb::parallel_for(size_t(0), blocks.size(), [&](size_t i) { SearchBlock(ss, blocks[i], options, &found[i]); });
-  // In the order (octave, layer, row, column), whatever the blocks' order of completion.
-  std::vector<Extremum> extrema;
-  for (int o = 0; o < ss.num_octaves(); ++o)
-    for (int l = 0; l < ss.layers_per_octave; ++l)
-      for (size_t i = first_block_of_octave[o]; i < first_block_of_octave[o + 1]; ++i)
-        extrema.insert(extrema.end(), found[i][l].begin(), found[i][l].end());
+  // In the order (layer, row, column), whatever the blocks' order of completion.
+  for (int l = 0; l < ss.layers_per_octave; ++l)
+    for (const auto& block : found) extrema->insert(extrema->end(), block[l].begin(), block[l].end());
+}
 
+std::vector<SiftKeypoint> OrientSiftExtrema(const SiftScaleSpace& ss, const std::vector<SiftExtremum>& extrema,
+                                            const SiftDetectionOptions& options) {
   // Orientations (one keypoint per dominant one, possibly none) at the integer sample and
   // layer where each refinement ended; oriented[i] holds extremum i's.
   const size_t n = extrema.size();
