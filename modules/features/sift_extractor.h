@@ -22,9 +22,10 @@ struct SiftOptions {
   // descriptors parallel inside one image) or "auto" (the default): pgba's from
   // kAutoPgbaSiftMinMegapixels on, OpenCV's below. By measurement (README "Measured:
   // front-end speed (issue 16)"): on the 6 MP Strecha photos pgba's takes 0.5-0.6x OpenCV's
-  // CPU time with rotation errors as good; on the 0.3 MP rings (temple, dino) it is faster
-  // too but their worst rotation error is larger and three whole-pipeline tests on such
-  // images miss their bars, not understood yet; sizes between were not measured.
+  // CPU time with rotation errors as good; it is faster at 0.3-1.7 MP too (fountain
+  // downscaled), but on the 0.3 MP rings (temple) the worst rotation error is larger and three
+  // whole-pipeline tests on 640x480 images miss their bars with it, not understood yet; the
+  // accuracy between 0.8 and 6 MP was not measured.
   std::string implementation = "auto";
   // Keep at most this many keypoints (the strongest responses); COLMAP's default.
   int max_features = 8192;
