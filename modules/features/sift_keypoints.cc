@@ -5,8 +5,6 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
-#include <cstdint>
-#include <cstring>
 #include <numeric>
 #include <vector>
 
@@ -37,8 +35,7 @@ struct DogLayer {
 
 // Rows [row0, row1) of an octave, searched in every layer 1..s row by row: the 3 x 6 rows
 // around row r of the octave's Gaussian layers stay in cache from one layer's scan to the
-// next (a layer at a time read each Gaussian layer from memory up to 4 times; the scan was
-// bound by memory bandwidth).
+// next (a layer at a time read each Gaussian layer from memory up to 4 times).
 struct Block {
   int octave, row0, row1;
 };
