@@ -1,5 +1,5 @@
 // pgba features --images DIR [--calib cameras.txt] [--camera-map FILE] --out WS
-//   [--max-features N] [--root-sift|--no-root-sift] [--max-image-size PX] [--sift-implementation pgba|opencv]
+//   [--max-features N] [--root-sift|--no-root-sift] [--max-image-size PX] [--sift-implementation auto|pgba|opencv]
 //   [--no-cache]
 #include <filesystem>
 
@@ -32,8 +32,8 @@ void RegisterFeatures(CLI::App& app) {
       ->check(InConfigRange("features.sift.max_image_size"))
       ->capture_default_str();
   sub->add_option("--sift-implementation", args->options.sift.implementation,
-                  "SIFT implementation: pgba (own, parallel inside an image) or opencv")
-      ->check(CLI::IsMember({"pgba", "opencv"}))
+                  "SIFT implementation: pgba (own, parallel inside an image), opencv, or auto (pgba from 2 MP)")
+      ->check(CLI::IsMember({"auto", "pgba", "opencv"}))
       ->capture_default_str();
   sub->add_flag("!--no-cache", args->options.use_cache, "recompute even where cached features exist");
   AddCommand(app, sub, [args] {

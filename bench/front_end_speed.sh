@@ -4,9 +4,10 @@
 #   before   the front end of main 25ebad3: OpenCV SIFT, FLANN kd-forest (4 trees, 32 checks), no
 #            buffer reuse between images (features.reuse_buffers false)
 #   kdtree   today's defaults but the kd-forest instead of cascade hashing
-#   default  today's defaults (buffer reuse, cascade hashing, OpenCV's SIFT)
+#   default  today's defaults (buffer reuse, cascade hashing, SIFT "auto": pgba's from 2 MP,
+#            OpenCV's below)
 #   opencv   defaults + features.sift.implementation "opencv" (OpenCV 4.6's SIFT, the
-#            default: the same algorithm as pgba's, its pyramid on one thread)
+#            same algorithm as pgba's, its pyramid on one thread)
 #   pgba     defaults + features.sift.implementation "pgba" (pgba's own SIFT, parallel
 #            inside one image, by default one image at a time)
 #   pgba2    pgba with two images in flight (features.max_parallel_images 2): each image's

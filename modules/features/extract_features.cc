@@ -49,7 +49,10 @@ FileOutcome ProcessFile(const fs::path& file, const std::string& feature_path, c
     r.reason = "no camera for this image in the camera map";
     return r;
   }
-  const std::string key = CacheKey(file, options.sift);
+  // "auto" resolved by the camera's size, which the decoded image must have: the key names
+  // the SIFT that runs (OpenCV's keeps its old key, so caches stay valid).
+  const SiftOptions sift = SiftOptionsForImage(options.sift, camera->width, camera->height);
+  const std::string key = CacheKey(file, sift);
   if (options.use_cache && fs::exists(feature_path)) {
     try {
       std::string stored;
@@ -82,7 +85,7 @@ FileOutcome ProcessFile(const fs::path& file, const std::string& feature_path, c
       r.reason = SizeMismatch(r.width, r.height, *camera);
       return r;
     }
-    const FeatureSet features = ExtractSift(gray, options.sift);
+    const FeatureSet features = ExtractSift(gray, sift);
     r.num_features = static_cast<int>(features.size());
     r.contrast_threshold = features.contrast_threshold;
     WriteFeatureFile(feature_path, features, key);
@@ -115,19 +118,24 @@ FeatureExtractionResult ExtractFeatures(const std::string& images_dir, const Cal
   // OpenCV from picking up another whole image, which bounds memory to one SIFT pyramid per
   // arena thread (~400 MB at 1600 px, ~1.5 GB at 3200 px); max_parallel_images lowers it.
   tbb::task_arena arena(options.max_parallel_images > 0 ? options.max_parallel_images : tbb::task_arena::automatic);
-  // The scale-space buffers of a finished image serve the next one (buffer_pool.h): up to
-  // one 6 MP image's worth (~2 GiB at the 2x upsampled octave) per image in flight.
-  std::optional<ScopedImageBufferPool> buffer_pool;
-  if (options.reuse_buffers)
-    buffer_pool.emplace((size_t(2) << 30) *
-                        static_cast<size_t>(options.max_parallel_images <= 0 && options.sift.implementation == "pgba"
-                                                ? 1
-                                                : arena.max_concurrency()));
   // pgba's SIFT is parallel inside one image (pyramid rows, extrema blocks, descriptors), so
   // by default its images go one at a time: one scale space in memory instead of one per
   // core, and on the project's VM the first touch of fresh memory (the kernel zeroing pages
   // the host backs lazily, ~2 s per GB) was the largest single cost of the first images.
-  const bool one_at_a_time = options.max_parallel_images <= 0 && options.sift.implementation == "pgba";
+  // So when every image gets pgba's ("auto" resolved by each camera's size).
+  bool all_pgba = n > 0;
+  for (const std::string& name : catalog.files) {
+    const auto it = catalog.camera_of.find(name);
+    if (it == catalog.camera_of.end()) continue;  // skipped below
+    const Camera& camera = catalog.cameras.at(it->second);
+    all_pgba = all_pgba && SiftOptionsForImage(options.sift, camera.width, camera.height).implementation == "pgba";
+  }
+  const bool one_at_a_time = options.max_parallel_images <= 0 && all_pgba;
+  // The scale-space buffers of a finished image serve the next one (buffer_pool.h): up to
+  // one 6 MP image's worth (~2 GiB at the 2x upsampled octave) per image in flight.
+  std::optional<ScopedImageBufferPool> buffer_pool;
+  if (options.reuse_buffers)
+    buffer_pool.emplace((size_t(2) << 30) * static_cast<size_t>(one_at_a_time ? 1 : arena.max_concurrency()));
   const size_t grain = one_at_a_time ? n + 1 : 1;
   arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, grain), [&](const tbb::blocked_range<size_t>& range) {

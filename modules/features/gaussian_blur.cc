@@ -5,14 +5,18 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
+#include <cstdint>
 #include <vector>
+
+#include "features/vec8.h"
 
 namespace pgba {
 namespace {
 
 // Rows per task: large enough to amortise the scheduling, small enough to balance 2+ cores.
 constexpr int kRowGrain = 16;
+// Columns per strip of the vertical pass (a multiple of its 32-float step).
+constexpr int kColumnStrip = 256;
 
 // Reflect-101 index into [0, n): ... 2 1 | 0 1 2 ... n-1 | n-2 ...
 inline int Reflect101(int i, int n) {
@@ -36,42 +40,29 @@ std::vector<float> HalfKernel(double sigma) {
   return out;
 }
 
-// The row kernels, compiled twice (AVX2 and the baseline SSE2) and dispatched at run time.
-// Plain IEEE float multiplies and adds, one weight at a time over all x in a fixed order
-// (never reassociated, never fused): every pixel gets the same bits on either path and for
-// any split of the image into tasks.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__)
-#define PGBA_MULTIVERSION __attribute__((target_clones("avx2", "default")))
-#else
-#define PGBA_MULTIVERSION
-#endif
-
-// 8 floats, explicitly: GCC's auto-vectoriser fell back to its scalar loop on the row
-// pointers' alias checks (perf: vaddss/vmulss in the hot loop). On the baseline path the
-// vector is two SSE registers, on the AVX2 one a ymm; the operations are the same.
+// The row kernels (vec8.h): plain IEEE float multiplies and adds, one weight at a time over
+// all x in a fixed order: every pixel gets the same bits on either path and for any split of
+// the image into tasks.
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wpsabi"  // inline only: no vector crosses a call boundary
-typedef float Vec8 __attribute__((vector_size(32)));
-inline __attribute__((always_inline)) Vec8 Load8(const float* p) {
-  Vec8 v;
-  std::memcpy(&v, p, sizeof(v));
-  return v;
-}
-inline __attribute__((always_inline)) void Store8(float* p, Vec8 v) { std::memcpy(p, &v, sizeof(v)); }
+using simd::Load8;
+using simd::Store8;
+using simd::Vec8;
 
-// out[x] = w0 rows[0][x] + sum_k w_k (rows[-k][x] + rows[+k][x]) for x in [0, n): the
-// vertical pass of one output row, rows[k] pointing at source row y + k (reflected).
+// out[x] = w0 rows[0][x0 + x] + sum_k w_k (rows[-k][x0 + x] + rows[+k][x0 + x]) for x in
+// [0, n): the vertical pass of one output row over columns x0.., rows[k] pointing at source
+// row y + k (reflected).
 PGBA_MULTIVERSION
-void VerticalRow(const float* const* rows, const float* w, int r, int n, float* __restrict out) {
+void VerticalRow(const float* const* rows, int x0, const float* w, int r, int n, float* __restrict out) {
   int x = 0;
   for (; x + 32 <= n; x += 32) {
     const Vec8 w0 = Vec8{} + w[0];
-    const float* c = rows[0] + x;
+    const float* c = rows[0] + x0 + x;
     Vec8 s0 = w0 * Load8(c), s1 = w0 * Load8(c + 8), s2 = w0 * Load8(c + 16), s3 = w0 * Load8(c + 24);
     for (int k = 1; k <= r; ++k) {
       const Vec8 wk = Vec8{} + w[k];
-      const float* a = rows[-k] + x;
-      const float* b = rows[k] + x;
+      const float* a = rows[-k] + x0 + x;
+      const float* b = rows[k] + x0 + x;
       s0 += wk * (Load8(a) + Load8(b));
       s1 += wk * (Load8(a + 8) + Load8(b + 8));
       s2 += wk * (Load8(a + 16) + Load8(b + 16));
@@ -83,8 +74,8 @@ void VerticalRow(const float* const* rows, const float* w, int r, int n, float* 
     Store8(out + x + 24, s3);
   }
   for (; x < n; ++x) {
-    float s = w[0] * rows[0][x];
-    for (int k = 1; k <= r; ++k) s += w[k] * (rows[-k][x] + rows[k][x]);
+    float s = w[0] * rows[0][x0 + x];
+    for (int k = 1; k <= r; ++k) s += w[k] * (rows[-k][x0 + x] + rows[k][x0 + x]);
     out[x] = s;
   }
 }
@@ -133,17 +124,29 @@ void ParallelGaussianBlur(const cv::Mat& src, cv::Mat& dst, double sigma, cv::Ma
     dog->create(rows, cols, CV_32F);
   }
   tbb::parallel_for(tbb::blocked_range<int>(0, rows, kRowGrain), [&](const tbb::blocked_range<int>& range) {
-    std::vector<float> pad(cols + 2 * r);
-    std::vector<const float*> row_ptrs(2 * r + 1);
-    const float** centre = row_ptrs.data() + r;
-    float* col = pad.data() + r;
-    for (int y = range.begin(); y < range.end(); ++y) {
-      for (int k = -r; k <= r; ++k) centre[k] = src.ptr<float>(Reflect101(y + k, rows));
-      VerticalRow(centre, w.data(), r, cols, col);
+    const int y0 = range.begin(), ny = range.end() - range.begin();
+    // Source rows y0 - r .. y0 + ny - 1 + r (reflected): src_rows[y - y0 + r + k] is row y + k.
+    std::vector<const float*> src_rows(ny + 2 * r);
+    for (int i = 0; i < ny + 2 * r; ++i) src_rows[i] = src.ptr<float>(Reflect101(y0 - r + i, rows));
+    // The vertical pass of the task's rows, a strip of columns at a time: the strip's
+    // ny + 2r source rows stay in L1 from one output row to the next (whole rows of the
+    // upsampled octave, 24 KB each, did not). Each row padded by r on both sides.
+    const int stride = cols + 2 * r;
+    thread_local std::vector<float> vertical;  // grown once per thread, not per task
+    if (vertical.size() < static_cast<size_t>(ny) * stride) vertical.resize(static_cast<size_t>(ny) * stride);
+    for (int x0 = 0; x0 < cols; x0 += kColumnStrip) {
+      const int n = std::min(kColumnStrip, cols - x0);
+      for (int t = 0; t < ny; ++t)
+        VerticalRow(src_rows.data() + t + r, x0, w.data(), r, n, &vertical[static_cast<size_t>(t) * stride + r + x0]);
+    }
+    for (int t = 0; t < ny; ++t) {
+      float* pad = &vertical[static_cast<size_t>(t) * stride];
+      const float* col = pad + r;
       for (int x = 0; x < r; ++x) {
         pad[x] = col[Reflect101(x - r, cols)];
         pad[cols + r + x] = col[Reflect101(cols + x, cols)];
       }
+      const int y = y0 + t;
       HorizontalRow(col, w.data(), r, cols, dst.ptr<float>(y), src.ptr<float>(y),
                     dog != nullptr ? dog->ptr<float>(y) : nullptr);
     }

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <vector>
 
-#include "features/fast_atan2.h"
+#include "features/gradient_polar.h"
 #include "features/separable_gaussian.h"
 
 namespace pgba {
@@ -20,6 +20,20 @@ inline int FloorInt(float v) {
   const int t = static_cast<int>(v);
   return t - (static_cast<float>(t) > v ? 1 : 0);
 }
+
+// A descriptor window's samples (thread-local, grown to the largest window): gradients,
+// weights, angles and magnitudes, and each sample's position in cell units.
+struct DescriptorSamples {
+  GradientSamples gradient;
+  std::vector<float> rbin, cbin;
+  void Reserve(int n) {
+    gradient.Reserve(n);
+    if (rbin.size() < gradient.dx.size()) {
+      rbin.resize(gradient.dx.size());
+      cbin.resize(gradient.dx.size());
+    }
+  }
+};
 
 }  // namespace
 
@@ -42,15 +56,20 @@ void ComputeSiftDescriptor(const SiftScaleSpace& ss, const SiftKeypoint& kp, flo
   // instead of one per sample.
   const SeparableGaussian g(radius, exp_scale / (hist_width * hist_width));
 
-  // (d+2) x (d+2) x (n+2): one cell of margin on each side and two wrap bins, so the
-  // trilinear spread never needs a bounds test.
-  float hist[(d + 2) * (d + 2) * (n + 2)] = {};
+  // The window's samples in row-major order (the order of the histogram sums): gradient,
+  // Gaussian weight and bin coordinates of those inside the rotated 4 x 4 cells; then their
+  // angles and magnitudes 8 at a time (GradientsToPolar: the same float operations as one at
+  // a time, so the same bits); then the trilinear spread, one sample after the other.
+  thread_local DescriptorSamples w;
+  w.Reserve((2 * radius + 1) * (2 * radius + 1));
+  int m = 0;
   for (int i = -radius; i <= radius; ++i) {
     const int r = py + i;
     if (r <= 0 || r >= img.rows - 1) continue;
     const float* row = img.ptr<float>(r);
     const float* up = img.ptr<float>(r - 1);
     const float* down = img.ptr<float>(r + 1);
+    const float gi = g[std::abs(i)];
     for (int j = -radius; j <= radius; ++j) {
       const int c = px + j;
       if (c <= 0 || c >= img.cols - 1) continue;
@@ -60,35 +79,45 @@ void ComputeSiftDescriptor(const SiftScaleSpace& ss, const SiftKeypoint& kp, flo
       const float rbin = r_rot + d / 2 - 0.5f;
       const float cbin = c_rot + d / 2 - 0.5f;
       if (!(rbin > -1 && rbin < d && cbin > -1 && cbin < d)) continue;
-      const float dx = row[c + 1] - row[c - 1];
-      const float dy = up[c] - down[c];
-      const float deg = FastAtan2Degrees(dy, dx);
-      const float mag = std::sqrt(dx * dx + dy * dy) * (g[std::abs(i)] * g[std::abs(j)]);
-      const float obin = (deg - angle) * bins_per_degree;
-      const int r0 = FloorInt(rbin);
-      const int c0 = FloorInt(cbin);
-      int o0 = FloorInt(obin);
-      const float fr = rbin - r0, fc = cbin - c0, fo = obin - o0;
-      if (o0 < 0) o0 += n;
-      if (o0 >= n) o0 -= n;
-      // Trilinear split of the weighted magnitude over the 8 neighbouring bins.
-      const float v_r1 = mag * fr, v_r0 = mag - v_r1;
-      const float v_rc11 = v_r1 * fc, v_rc10 = v_r1 - v_rc11;
-      const float v_rc01 = v_r0 * fc, v_rc00 = v_r0 - v_rc01;
-      const float v_rco111 = v_rc11 * fo, v_rco110 = v_rc11 - v_rco111;
-      const float v_rco101 = v_rc10 * fo, v_rco100 = v_rc10 - v_rco101;
-      const float v_rco011 = v_rc01 * fo, v_rco010 = v_rc01 - v_rco011;
-      const float v_rco001 = v_rc00 * fo, v_rco000 = v_rc00 - v_rco001;
-      const int idx = ((r0 + 1) * (d + 2) + c0 + 1) * (n + 2) + o0;
-      hist[idx] += v_rco000;
-      hist[idx + 1] += v_rco001;
-      hist[idx + (n + 2)] += v_rco010;
-      hist[idx + (n + 3)] += v_rco011;
-      hist[idx + (d + 2) * (n + 2)] += v_rco100;
-      hist[idx + (d + 2) * (n + 2) + 1] += v_rco101;
-      hist[idx + (d + 3) * (n + 2)] += v_rco110;
-      hist[idx + (d + 3) * (n + 2) + 1] += v_rco111;
+      w.gradient.dx[m] = row[c + 1] - row[c - 1];
+      w.gradient.dy[m] = up[c] - down[c];
+      w.gradient.weight[m] = gi * g[std::abs(j)];
+      w.rbin[m] = rbin;
+      w.cbin[m] = cbin;
+      ++m;
     }
+  }
+  w.gradient.ToPolar(m);
+
+  // (d+2) x (d+2) x (n+2): one cell of margin on each side and two wrap bins, so the
+  // trilinear spread never needs a bounds test.
+  float hist[(d + 2) * (d + 2) * (n + 2)] = {};
+  for (int k = 0; k < m; ++k) {
+    const float rbin = w.rbin[k], cbin = w.cbin[k], mag = w.gradient.mag[k];
+    const float obin = (w.gradient.deg[k] - angle) * bins_per_degree;
+    const int r0 = FloorInt(rbin);
+    const int c0 = FloorInt(cbin);
+    int o0 = FloorInt(obin);
+    const float fr = rbin - r0, fc = cbin - c0, fo = obin - o0;
+    if (o0 < 0) o0 += n;
+    if (o0 >= n) o0 -= n;
+    // Trilinear split of the weighted magnitude over the 8 neighbouring bins.
+    const float v_r1 = mag * fr, v_r0 = mag - v_r1;
+    const float v_rc11 = v_r1 * fc, v_rc10 = v_r1 - v_rc11;
+    const float v_rc01 = v_r0 * fc, v_rc00 = v_r0 - v_rc01;
+    const float v_rco111 = v_rc11 * fo, v_rco110 = v_rc11 - v_rco111;
+    const float v_rco101 = v_rc10 * fo, v_rco100 = v_rc10 - v_rco101;
+    const float v_rco011 = v_rc01 * fo, v_rco010 = v_rc01 - v_rco011;
+    const float v_rco001 = v_rc00 * fo, v_rco000 = v_rc00 - v_rco001;
+    const int idx = ((r0 + 1) * (d + 2) + c0 + 1) * (n + 2) + o0;
+    hist[idx] += v_rco000;
+    hist[idx + 1] += v_rco001;
+    hist[idx + (n + 2)] += v_rco010;
+    hist[idx + (n + 3)] += v_rco011;
+    hist[idx + (d + 2) * (n + 2)] += v_rco100;
+    hist[idx + (d + 2) * (n + 2) + 1] += v_rco101;
+    hist[idx + (d + 3) * (n + 2)] += v_rco110;
+    hist[idx + (d + 3) * (n + 2) + 1] += v_rco111;
   }
   // Fold the wrap bins (orientation is circular) and drop the spatial margin.
   for (int i = 0; i < d; ++i)

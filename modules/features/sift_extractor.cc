@@ -42,8 +42,9 @@ double DetectionScale(int width, int height, const SiftOptions& options) {
 }
 
 void ValidateSiftOptions(const SiftOptions& o) {
-  if (o.implementation != "pgba" && o.implementation != "opencv")
-    throw InputError("features.sift.implementation = \"" + o.implementation + "\": must be \"pgba\" or \"opencv\"");
+  if (o.implementation != "auto" && o.implementation != "pgba" && o.implementation != "opencv")
+    throw InputError("features.sift.implementation = \"" + o.implementation +
+                     "\": must be \"auto\", \"pgba\" or \"opencv\"");
   if (o.first_octave != -1 && o.first_octave != 0)
     throw InputError("features.sift.first_octave = " + std::to_string(o.first_octave) + ": must be -1 or 0");
   if (o.target_features > 0 && o.min_contrast_threshold > o.contrast_threshold)
@@ -51,9 +52,20 @@ void ValidateSiftOptions(const SiftOptions& o) {
                      ": must not exceed contrast_threshold (" + std::to_string(o.contrast_threshold) + ")");
 }
 
-FeatureSet ExtractSift(const cv::Mat& gray, const SiftOptions& options) {
+SiftOptions SiftOptionsForImage(const SiftOptions& options, int width, int height) {
+  SiftOptions o = options;
+  if (o.implementation == "auto") {
+    const double scale = DetectionScale(width, height, options);
+    const double megapixels = 1e-6 * width * height / (scale * scale);
+    o.implementation = megapixels >= kAutoPgbaSiftMinMegapixels ? "pgba" : "opencv";
+  }
+  return o;
+}
+
+FeatureSet ExtractSift(const cv::Mat& gray, const SiftOptions& requested) {
   CV_Assert(gray.type() == CV_8UC1);
-  ValidateSiftOptions(options);
+  ValidateSiftOptions(requested);
+  const SiftOptions options = SiftOptionsForImage(requested, gray.cols, gray.rows);
   FeatureSet out;
   out.width = gray.cols;
   out.height = gray.rows;

@@ -12,13 +12,21 @@
 
 namespace pgba {
 
+// Detection images (after max_image_size) of at least this many megapixels get pgba's SIFT
+// under implementation "auto", smaller ones OpenCV's.
+constexpr double kAutoPgbaSiftMinMegapixels = 2.0;
+
 struct SiftOptions {
-  // Which SIFT: "opencv" (cv::SIFT of OpenCV 4.6, which builds its pyramid on one thread)
-  // or "pgba" (pgba_sift.h: the same algorithm with the pyramid, the extrema and the
-  // descriptors parallel inside one image). OpenCV's is the default by measurement: on the
-  // loaded 2-core machine, with images already in parallel, pgba's took 1.0-1.75x its time
-  // per image (README "Measured: front-end speed (issue 16)").
-  std::string implementation = "opencv";
+  // Which SIFT: "opencv" (cv::SIFT of OpenCV 4.6, which builds its pyramid on one thread),
+  // "pgba" (pgba_sift.h: the same algorithm with the pyramid, the extrema and the
+  // descriptors parallel inside one image) or "auto" (the default): pgba's from
+  // kAutoPgbaSiftMinMegapixels on, OpenCV's below. By measurement (README "Measured:
+  // front-end speed (issue 16)"): on the 6 MP Strecha photos pgba's takes 0.5-0.6x OpenCV's
+  // CPU time with rotation errors as good; it is faster at 0.3-1.7 MP too (fountain
+  // downscaled), but on the 0.3 MP rings (temple) the worst rotation error is larger and three
+  // whole-pipeline tests on 640x480 images miss their bars with it, not understood yet; the
+  // accuracy between 0.8 and 6 MP was not measured.
+  std::string implementation = "auto";
   // Keep at most this many keypoints (the strongest responses); COLMAP's default.
   int max_features = 8192;
   // RootSIFT descriptors (better matching at no cost); false gives plain SIFT.
@@ -58,6 +66,10 @@ double DetectionScale(int width, int height, const SiftOptions& options);
 
 // Throws InputError naming the option when one is out of its valid range.
 void ValidateSiftOptions(const SiftOptions& options);
+
+// The options with implementation "auto" resolved for an image of this size ("pgba" or
+// "opencv"; the others as they are): what ExtractSift runs on it and what its cache key says.
+SiftOptions SiftOptionsForImage(const SiftOptions& options, int width, int height);
 
 // Features of an 8-bit grayscale image (CV_8UC1). Deterministic (no randomness in SIFT).
 // Keypoints are sorted by decreasing response, ties by position, so the cache and the matcher

@@ -1,16 +1,15 @@
 #include "features/sift_keypoints.h"
 
-#include <emmintrin.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
-#include <cstdint>
-#include <cstring>
+#include <numeric>
 #include <vector>
 
-#include "features/fast_atan2.h"
+#include "features/gradient_polar.h"
+#include "features/sift_extrema_scan.h"
 #include "features/separable_gaussian.h"
 
 namespace pgba {
@@ -34,8 +33,11 @@ struct DogLayer {
   float operator()(int y, int x) const { return hi->ptr<float>(y)[x] - lo->ptr<float>(y)[x]; }
 };
 
+// Rows [row0, row1) of an octave, searched in every layer 1..s row by row: the 3 x 6 rows
+// around row r of the octave's Gaussian layers stay in cache from one layer's scan to the
+// next (a layer at a time read each Gaussian layer from memory up to 4 times).
 struct Block {
-  int octave, layer, row0, row1;
+  int octave, row0, row1;
 };
 
 // Newton refinement of an extremum at (layer, r, c) of octave o; on success fills kp and
@@ -114,6 +116,11 @@ float OrientationHistogram(const cv::Mat& img, int x0, int y0, int radius, float
   // The Gaussian window is separable: exp(-(i^2 + j^2) / 2s^2) = g[i] g[j], one exp per
   // offset instead of one per sample (the exps were a third of the orientation time).
   const SeparableGaussian g(radius, exp_scale);
+  // The window's samples in row-major order, their angles and magnitudes 8 at a time
+  // (gradient_polar.h: the same bits as one at a time), then the histogram in that order.
+  thread_local GradientSamples w;
+  w.Reserve((2 * radius + 1) * (2 * radius + 1));
+  int m = 0;
   for (int i = -radius; i <= radius; ++i) {
     const int y = y0 + i;
     if (y <= 0 || y >= img.rows - 1) continue;
@@ -124,16 +131,19 @@ float OrientationHistogram(const cv::Mat& img, int x0, int y0, int radius, float
     for (int j = -radius; j <= radius; ++j) {
       const int x = x0 + j;
       if (x <= 0 || x >= img.cols - 1) continue;
-      const float dx = row[x + 1] - row[x - 1];
-      const float dy = up[x] - down[x];
-      const float w = gi * g[std::abs(j)];
-      const float deg = FastAtan2Degrees(dy, dx);
-      // deg >= 0: round half up without lround's libm call (a tenth of the histogram time).
-      int bin = static_cast<int>(deg * (kOrientationBins / 360.f) + 0.5f);
-      if (bin >= kOrientationBins) bin -= kOrientationBins;
-      if (bin < 0) bin += kOrientationBins;
-      h[bin] += w * std::sqrt(dx * dx + dy * dy);
+      w.dx[m] = row[x + 1] - row[x - 1];
+      w.dy[m] = up[x] - down[x];
+      w.weight[m] = gi * g[std::abs(j)];
+      ++m;
     }
+  }
+  w.ToPolar(m);
+  for (int k = 0; k < m; ++k) {
+    // deg >= 0: round half up without lround's libm call (a tenth of the histogram time).
+    int bin = static_cast<int>(w.deg[k] * (kOrientationBins / 360.f) + 0.5f);
+    if (bin >= kOrientationBins) bin -= kOrientationBins;
+    if (bin < 0) bin += kOrientationBins;
+    h[bin] += w.mag[k];
   }
   // Circular [1 4 6 4 1] / 16 smoothing.
   h[-1] = h[kOrientationBins - 1];
@@ -169,102 +179,97 @@ void AddOriented(const SiftScaleSpace& ss, const SiftKeypoint& kp, int r, int c,
   }
 }
 
-// Bit i set when column i of p[0..7] may be an extremum: |v| > pre and v >= its 8
-// neighbours in the same layer (v > 0), or v <= them (v < 0). SSE2, 4 columns at a time.
-inline uint32_t CandidateMask(const float* p_hi, const float* p_lo, ptrdiff_t step, float pre) {
-  const ptrdiff_t around[8] = {-step - 1, -step, -step + 1, -1, 1, step - 1, step, step + 1};
-  const __m128 hi_t = _mm_set1_ps(pre), lo_t = _mm_set1_ps(-pre);
-  uint32_t bits = 0;
-  for (int half = 0; half < 2; ++half) {
-    const float* qh = p_hi + 4 * half;
-    const float* ql = p_lo + 4 * half;
-    const __m128 v = _mm_sub_ps(_mm_loadu_ps(qh), _mm_loadu_ps(ql));
-    __m128 hi = _mm_cmpgt_ps(v, hi_t), lo = _mm_cmplt_ps(v, lo_t);
-    if (_mm_movemask_ps(_mm_or_ps(hi, lo)) == 0) continue;
-    for (int k = 0; k < 8; ++k) {
-      const __m128 n = _mm_sub_ps(_mm_loadu_ps(qh + around[k]), _mm_loadu_ps(ql + around[k]));
-      hi = _mm_and_ps(hi, _mm_cmpge_ps(v, n));
-      lo = _mm_and_ps(lo, _mm_cmple_ps(v, n));
-    }
-    bits |= static_cast<uint32_t>(_mm_movemask_ps(_mm_or_ps(hi, lo))) << (4 * half);
-  }
-  return bits;
-}
-
-// Extrema of one block of rows of DoG layer `layer` (1..s) of octave o.
+// Extrema of one block of rows of octave b.octave, out[l - 1] those of DoG layer l (1..s).
 void SearchBlock(const SiftScaleSpace& ss, const Block& b, const SiftDetectionOptions& opt,
-                 std::vector<SiftKeypoint>* out) {
+                 std::vector<std::vector<SiftExtremum>>* out) {
   const std::vector<cv::Mat>& g = ss.gaussians[b.octave];
-  // DoG layers l - 1, l, l + 1 are differences of Gaussian layers l - 1 .. l + 2.
-  const cv::Mat &g0 = g[b.layer - 1], &g1 = g[b.layer], &g2 = g[b.layer + 1], &g3 = g[b.layer + 2];
-  const int cols = g1.cols;
-  const ptrdiff_t step = static_cast<ptrdiff_t>(g1.step1());
-  CV_Assert(g0.step1() == g1.step1() && g2.step1() == g1.step1() && g3.step1() == g1.step1());
-  // The 26 neighbours: 8 in the same layer first (most candidates fail there), then 9 + 9.
-  const ptrdiff_t around[9] = {-step - 1, -step, -step + 1, -1, 0, 1, step - 1, step, step + 1};
+  const int s = ss.layers_per_octave;
+  const int cols = g[0].cols;
+  const ptrdiff_t step = static_cast<ptrdiff_t>(g[0].step1());
+  for (const cv::Mat& layer : g) CV_Assert(layer.step1() == g[0].step1());
   // Pre-filter: samples below half the contrast threshold are not refined (OpenCV's and
   // VLFeat's rule; refinement only moves towards larger |DoG|, so a candidate must at least
   // double to pass). OpenCV rounds it down to whole grey levels, 0 at pgba's 0.02, and so
   // refines every non-zero extremum: most of its extrema time, for no kept keypoint.
-  const float pre = 0.5f * static_cast<float>(opt.contrast_threshold) / ss.layers_per_octave * 255.f;
+  const float pre = 0.5f * static_cast<float>(opt.contrast_threshold) / s * 255.f;
+  std::vector<int> found(std::max(cols - 2 * kBorder, 0));
+  out->assign(s, {});
   for (int r = b.row0; r < b.row1; ++r) {
-    const float* q0 = g0.ptr<float>(r);
-    const float* q1 = g1.ptr<float>(r);
-    const float* q2 = g2.ptr<float>(r);
-    const float* q3 = g3.ptr<float>(r);
-    auto pc = [q1, q2](ptrdiff_t i) { return q2[i] - q1[i]; };
-    auto pp = [q0, q1](ptrdiff_t i) { return q1[i] - q0[i]; };
-    auto pn = [q2, q3](ptrdiff_t i) { return q3[i] - q2[i]; };
-    // 8 columns at a time, the pre-filter and the 8 neighbours of the same layer as a mask
-    // (the same tests as the scalar code below, which decides): most of the image fails
-    // there, and the scan was the largest part of the extrema time.
-    uint32_t candidates = 0;
-    int c0 = kBorder;
-    for (int c = kBorder; c < cols - kBorder; ++c) {
-      if (c == c0) {
-        candidates = c + 8 <= cols - kBorder ? CandidateMask(q2 + c, q1 + c, step, pre) : 0xffu;
-        c0 = c + 8;
-        if (candidates == 0) {
-          c += 7;
-          continue;
-        }
+    for (int l = 1; l <= s; ++l) {
+      // DoG layers l - 1, l, l + 1 are differences of Gaussian layers l - 1 .. l + 2.
+      const int n = ScanDogRowForExtrema(g[l - 1].ptr<float>(r), g[l].ptr<float>(r), g[l + 1].ptr<float>(r),
+                                         g[l + 2].ptr<float>(r), step, kBorder, cols - kBorder, pre, found.data());
+      for (int i = 0; i < n; ++i) {
+        SiftKeypoint kp;
+        int rr = r, rc = found[i];
+        if (!Refine(ss, b.octave, l, rr, rc, opt, &kp)) continue;
+        (*out)[l - 1].push_back({kp, rr, rc});
       }
-      if (!(candidates >> (c - (c0 - 8)) & 1u)) continue;
-      const float v = pc(c);
-      if (!(std::abs(v) > pre)) continue;
-      bool extremum = true;
-      if (v > 0) {
-        for (int k = 0; k < 9 && extremum; ++k) extremum = (k == 4 || v >= pc(c + around[k]));
-        for (int k = 0; k < 9 && extremum; ++k) extremum = v >= pp(c + around[k]) && v >= pn(c + around[k]);
-      } else {
-        for (int k = 0; k < 9 && extremum; ++k) extremum = (k == 4 || v <= pc(c + around[k]));
-        for (int k = 0; k < 9 && extremum; ++k) extremum = v <= pp(c + around[k]) && v <= pn(c + around[k]);
-      }
-      if (!extremum) continue;
-      SiftKeypoint kp;
-      int rr = r, rc = c;
-      if (!Refine(ss, b.octave, b.layer, rr, rc, opt, &kp)) continue;
-      // Orientation at the integer sample and layer where the refinement ended.
-      AddOriented(ss, kp, rr, rc, out);
     }
   }
 }
 
 }  // namespace
 
-std::vector<SiftKeypoint> DetectSiftKeypoints(const SiftScaleSpace& ss, const SiftDetectionOptions& options) {
+void FindSiftExtrema(const SiftScaleSpace& ss, int octave, const SiftDetectionOptions& options,
+                     std::vector<SiftExtremum>* extrema) {
   std::vector<Block> blocks;
-  for (int o = 0; o < ss.num_octaves(); ++o) {
-    const int rows = ss.gaussians[o][0].rows, cols = ss.gaussians[o][0].cols;
-    if (rows <= 2 * kBorder || cols <= 2 * kBorder) continue;
-    for (int layer = 1; layer <= ss.layers_per_octave; ++layer)
-      for (int r = kBorder; r < rows - kBorder; r += kBlockRows)
-        blocks.push_back({o, layer, r, std::min(r + kBlockRows, rows - kBorder)});
-  }
-  std::vector<std::vector<SiftKeypoint>> found(blocks.size());
+  const int rows = ss.gaussians[octave][0].rows, cols = ss.gaussians[octave][0].cols;
+  if (rows <= 2 * kBorder || cols <= 2 * kBorder) return;
+  for (int r = kBorder; r < rows - kBorder; r += kBlockRows)
+    blocks.push_back({octave, r, std::min(r + kBlockRows, rows - kBorder)});
+  std::vector<std::vector<std::vector<SiftExtremum>>> found(blocks.size());
   tbb::parallel_for(size_t(0), blocks.size(), [&](size_t i) { SearchBlock(ss, blocks[i], options, &found[i]); });
+  // In the order (layer, row, column), whatever the blocks' order of completion.
+  for (int l = 0; l < ss.layers_per_octave; ++l)
+    for (const auto& block : found) extrema->insert(extrema->end(), block[l].begin(), block[l].end());
+}
+
+std::vector<SiftKeypoint> OrientSiftExtrema(const SiftScaleSpace& ss, const std::vector<SiftExtremum>& extrema,
+                                            const SiftDetectionOptions& options) {
+  // Orientations (one keypoint per dominant one, possibly none) at the integer sample and
+  // layer where each refinement ended; oriented[i] holds extremum i's.
+  const size_t n = extrema.size();
+  std::vector<std::vector<SiftKeypoint>> oriented(n);
+  auto orient = [&](size_t i) { AddOriented(ss, extrema[i].kp, extrema[i].row, extrema[i].col, &oriented[i]); };
+  if (options.max_features <= 0) {
+    tbb::parallel_for(size_t(0), n, orient);
+  } else {
+    // Strongest first (ties in extremum order); a 6 MP photo has ~20,000 extrema for the
+    // 8,192 kept, and the orientation histograms were most of the detection time. Batches
+    // until max_features oriented keypoints are reached at response r_k, then every extremum
+    // tied with r_k: the rest are weaker than max_features oriented keypoints already.
+    std::vector<size_t> by_response(n);
+    std::iota(by_response.begin(), by_response.end(), size_t(0));
+    std::stable_sort(by_response.begin(), by_response.end(),
+                     [&](size_t a, size_t b) { return extrema[a].kp.response > extrema[b].kp.response; });
+    const size_t cap = static_cast<size_t>(options.max_features);
+    size_t done = 0, count = 0;
+    bool reached = false;
+    float r_k = 0;
+    while (done < n) {
+      size_t end = done;
+      if (!reached)
+        end = std::min(n, done + std::max<size_t>(cap - count, 64));
+      else
+        while (end < n && extrema[by_response[end]].kp.response >= r_k) ++end;
+      if (end == done) break;
+      // In extremum order (the scale space's), where neighbouring windows share cache lines.
+      std::vector<size_t> batch(by_response.begin() + done, by_response.begin() + end);
+      std::sort(batch.begin(), batch.end());
+      tbb::parallel_for(size_t(0), batch.size(), [&](size_t i) { orient(batch[i]); });
+      for (size_t i = done; i < end; ++i) {
+        count += oriented[by_response[i]].size();
+        if (!reached && count >= cap) {
+          reached = true;
+          r_k = extrema[by_response[i]].kp.response;
+        }
+      }
+      done = end;
+    }
+  }
   std::vector<SiftKeypoint> all;
-  for (const auto& f : found) all.insert(all.end(), f.begin(), f.end());
+  for (const auto& o : oriented) all.insert(all.end(), o.begin(), o.end());
   return all;
 }
 

@@ -24,11 +24,32 @@ struct SiftKeypoint {
 struct SiftDetectionOptions {
   double contrast_threshold = 0.02;  // on |DoG| * layers_per_octave, grey levels 0..1
   double edge_threshold = 10.0;      // maximal ratio of principal curvatures
+  // > 0: the caller keeps only the max_features strongest oriented keypoints (by response,
+  // which does not depend on the orientation), so orientations are computed only for the
+  // extrema that can be among them: every extremum whose response reaches that of the
+  // max_features-th oriented keypoint (ties included). The caller's cap then selects exactly
+  // what it would from all of them. <= 0: every extremum is oriented.
+  int max_features = 0;
 };
 
-// Keypoints in a deterministic order (octave, layer, row, column, orientation peak),
-// whatever the number of threads: the search runs in parallel over fixed blocks of rows
-// whose results are concatenated in block order.
-std::vector<SiftKeypoint> DetectSiftKeypoints(const SiftScaleSpace& ss, const SiftDetectionOptions& options);
+// A refined extremum before its orientations: kp without an angle, and the integer sample
+// (row, col of its layer) where the refinement ended, around which the orientation
+// histogram is taken.
+struct SiftExtremum {
+  SiftKeypoint kp;
+  int row, col;
+};
+
+// The extrema of one octave, every layer of it present (DoG layers 1..s, refined), appended
+// in the order (layer, row, column) whatever the number of threads: the search runs in
+// parallel over fixed blocks of rows whose results are concatenated in block order.
+void FindSiftExtrema(const SiftScaleSpace& ss, int octave, const SiftDetectionOptions& options,
+                     std::vector<SiftExtremum>* extrema);
+
+// Keypoints, one per dominant orientation of each extremum (Gaussian layers 1..s only), in
+// the extrema's order and then by orientation peak. With options.max_features > 0 the weaker
+// extrema that cannot be among the strongest max_features are left out (see above).
+std::vector<SiftKeypoint> OrientSiftExtrema(const SiftScaleSpace& ss, const std::vector<SiftExtremum>& extrema,
+                                            const SiftDetectionOptions& options);
 
 }  // namespace pgba

@@ -13,7 +13,8 @@ constexpr double kInitialBlur = 0.5;
 
 }  // namespace
 
-SiftScaleSpace BuildSiftScaleSpace(const cv::Mat& gray8u, bool upsample, int layers_per_octave, double sigma) {
+SiftScaleSpace BuildSiftScaleSpace(const cv::Mat& gray8u, bool upsample, const SiftOctaveCallback& on_octave,
+                                   int layers_per_octave, double sigma) {
   CV_Assert(gray8u.type() == CV_8UC1 && layers_per_octave >= 1);
   SiftScaleSpace ss;
   ss.layers_per_octave = layers_per_octave;
@@ -44,6 +45,22 @@ SiftScaleSpace BuildSiftScaleSpace(const cv::Mat& gray8u, bool upsample, int lay
     increment[i] = std::sqrt(total * total - previous * previous);
   }
 
+  // Views for the later octaves' layers, carved in order from ss.storage (64-byte aligned);
+  // a layer that does not fit gets its own memory.
+  size_t buffer = 0, offset = 0;
+  auto carve = [&](int rows, int cols) {
+    const size_t bytes = (static_cast<size_t>(rows) * cols * sizeof(float) + 63) / 64 * 64;
+    for (; buffer < ss.storage.size(); ++buffer, offset = 0) {
+      const cv::Mat& m = ss.storage[buffer];
+      if (offset + bytes <= m.total() * m.elemSize()) {
+        cv::Mat view(rows, cols, CV_32F, m.data + offset);
+        offset += bytes;
+        return view;
+      }
+    }
+    return cv::Mat(rows, cols, CV_32F);
+  };
+
   ss.gaussians.assign(num_octaves, std::vector<cv::Mat>(s + 3));
   for (int o = 0; o < num_octaves; ++o) {
     std::vector<cv::Mat>& g = ss.gaussians[o];
@@ -52,12 +69,19 @@ SiftScaleSpace BuildSiftScaleSpace(const cv::Mat& gray8u, bool upsample, int lay
       base.release();
     } else {
       // Layer s of the previous octave has blur 2 sigma: decimated, sigma in the new pixels.
-      ParallelDecimate2x(ss.gaussians[o - 1][s], g[0]);
+      const cv::Mat& from = ss.gaussians[o - 1][s];
+      for (cv::Mat& layer : g) layer = carve(from.rows / 2, from.cols / 2);
+      ParallelDecimate2x(from, g[0]);
     }
     // The DoG is not stored: the detector takes differences of these layers where it reads
     // them (6 layers per octave in memory instead of 3 Gaussians + 5 DoGs, whose fresh pages
     // were the largest cost of a 6 MP image on the project's VM).
     for (int i = 1; i < s + 3; ++i) ParallelGaussianBlur(g[i - 1], g[i], increment[i]);
+    on_octave(ss, o);
+    for (int i : {0, s + 1, s + 2}) {
+      if (o == 0) ss.storage.push_back(g[i]);
+      g[i].release();
+    }
   }
   return ss;
 }

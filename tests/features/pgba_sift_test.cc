@@ -164,13 +164,30 @@ TEST(PgbaSift, BlurMatchesOpenCvsGaussianBlurAndIsThreadIndependent) {
 
 TEST(PgbaSift, ImplementationIsValidatedAndInTheCacheKey) {
   SiftOptions o;
-  EXPECT_EQ(o.implementation, "opencv");
+  EXPECT_EQ(o.implementation, "auto");
+  EXPECT_NO_THROW(ValidateSiftOptions(o));
   o.implementation = "vlfeat";
   EXPECT_THROW(ValidateSiftOptions(o), InputError);
   SiftOptions a, b;
+  a.implementation = "opencv";
   b.implementation = "pgba";
   EXPECT_NO_THROW(ValidateSiftOptions(b));
   EXPECT_NE(SiftOptionsKey(a), SiftOptionsKey(b));
+  // "auto" by the detection image's size (after max_image_size): the key names what runs,
+  // so OpenCV's keeps the key its caches were written with.
+  const SiftOptions automatic;
+  EXPECT_EQ(SiftOptionsForImage(automatic, 640, 480).implementation, "opencv");
+  EXPECT_EQ(SiftOptionsForImage(automatic, 1024, 768).implementation, "opencv");
+  EXPECT_EQ(SiftOptionsForImage(automatic, 1920, 1080).implementation, "pgba");  // 2.07 MP
+  EXPECT_EQ(SiftOptionsForImage(automatic, 3072, 2048).implementation, "pgba");
+  EXPECT_EQ(SiftOptionsForImage(automatic, 8000, 6000).implementation, "pgba");  // detected at 3200 x 2400
+  SiftOptions small = automatic;
+  small.max_image_size = 1000;
+  EXPECT_EQ(SiftOptionsForImage(small, 3072, 2048).implementation, "opencv");  // detected at 1000 x 667
+  EXPECT_EQ(SiftOptionsKey(SiftOptionsForImage(automatic, 640, 480)), SiftOptionsKey(a));
+  EXPECT_EQ(SiftOptionsKey(SiftOptionsForImage(automatic, 3072, 2048)), SiftOptionsKey(b));
+  EXPECT_EQ(SiftOptionsForImage(b, 640, 480).implementation, "pgba");  // explicit choices stand
+  EXPECT_EQ(SiftOptionsForImage(a, 3072, 2048).implementation, "opencv");
 }
 
 }  // namespace
