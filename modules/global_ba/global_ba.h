@@ -183,9 +183,9 @@ struct GlobalBAOptions {
   // (README, issue 14): on fixed tracks (N 20) it reaches the point-based BA's rotations at
   // x1.08-1.12 and x0.92 (rel. 0.17-0.25 deg; default 0.25-0.32, Sim3 up to 1.8 deg), in the
   // whole pipeline it ends worse (0.87 deg against 0.21-0.56): both losses' passes stop at a
-  // refused step along which the true cost rises ~250x faster than the models predict (a
-  // motion's own Newton step far along a direction its h hardly sees: focal against camera
-  // distance, centres moving 0.15 of the scene), which this does not remove.
+  // refused step that the models price at almost nothing (a motion's own Newton step lies far
+  // along a direction its h hardly sees: focal against camera distance), along which the
+  // re-triangulated true cost jumps (points dropping out) and then climbs far above them.
   int relinearize_robust_passes_self_calibrating = 0;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(GlobalBAOptions, weighting, gauge, similarity_init, max_rounds,
