@@ -14,6 +14,7 @@
 #include "modules/global_ba/motion_residual.h"
 #include "modules/global_ba/motion_similarity.h"
 #include "modules/global_ba/motion_weighting.h"
+#include "modules/global_ba/relinearized_models.h"
 #include "pgba/optim/intrinsics.h"
 #include "pgba/optim/pose_parameterization.h"
 #include "pgba/util/error.h"
@@ -25,110 +26,14 @@ namespace pgba {
 
 namespace {
 
+using internal::FreeIntrinsicsOf;
 using internal::IntrinsicSizes;
+using internal::Models;
 using internal::NoiseVariance;
+using internal::RelinearizeAt;
 using internal::RunGlobalBA;
-
-// The models in force: the motions' frames and local Hessians, index-aligned with the motions.
-// They start as the caller's vectors and are replaced by re-linearised ones without copying
-// the unchanged (a motion's h is (6N + K)^2 doubles: copying all of them each pass cost 15%
-// of the pointless BA's time on a 70-image orbit).
-class Models {
- public:
-  Models(const std::vector<LocalMotion>& motions, const std::vector<LocalHessian>& hessians)
-      : frames_(&motions), hessians_(&hessians) {}
-  const std::vector<LocalMotion>& frames() const { return *frames_; }
-  const std::vector<LocalHessian>& hessians() const { return *hessians_; }
-
-  // The models re-taken at one solution: index into the motions, frame and local Hessian.
-  struct Retaken {
-    std::vector<int> index;
-    std::vector<LocalMotion> frames;
-    std::vector<LocalHessian> hessians;
-  };
-
-  // The re-taken models in force from now on; the others kept.
-  void Adopt(Retaken&& r) {
-    std::vector<int> slot(hessians_->size(), -1);
-    for (size_t j = 0; j < r.index.size(); ++j) slot[r.index[j]] = static_cast<int>(j);
-    std::vector<LocalMotion> frames;
-    std::vector<LocalHessian> hessians;
-    frames.reserve(slot.size());
-    hessians.reserve(slot.size());
-    for (size_t i = 0; i < slot.size(); ++i) {
-      if (slot[i] < 0) {
-        frames.push_back((*frames_)[i]);
-        hessians.push_back((*hessians_)[i]);
-      } else {
-        frames.push_back(std::move(r.frames[slot[i]]));
-        hessians.push_back(std::move(r.hessians[slot[i]]));
-      }
-    }
-    owned_frames_ = std::move(frames);
-    owned_hessians_ = std::move(hessians);
-    frames_ = &owned_frames_;
-    hessians_ = &owned_hessians_;
-  }
-
- private:
-  const std::vector<LocalMotion>* frames_;
-  const std::vector<LocalHessian>* hessians_;
-  std::vector<LocalMotion> owned_frames_;
-  std::vector<LocalHessian> owned_hessians_;
-};
-
-// The local Hessians of `motions` re-taken where `result` puts them (points re-triangulated,
-// no local iteration): only the motions `result` used and whose Hessian came out ok.
-Models::Retaken RelinearizeAt(const Reconstruction& tracks, const LocalHessianOptions& at_solution,
-                              const ObservationShares* shares, const std::vector<LocalMotion>& motions,
-                              const GlobalBAResult& result) {
-  std::vector<LocalMotion> predicted;
-  std::vector<int> index;
-  for (size_t i = 0; i < motions.size(); ++i) {
-    if (!(result.irls_weights[i] > 0)) continue;  // not used
-    LocalMotion t = motions[i];
-    t.global_to_local = result.similarities[i];
-    for (int v = 0; v < t.num_views(); ++v) t.local_poses[v] = t.global_to_local.Apply(result.poses.at(t.image_ids[v]));
-    predicted.push_back(std::move(t));
-    index.push_back(static_cast<int>(i));
-  }
-  LocalHessianResult lr;
-  if (result.intrinsics.empty()) {
-    lr = ComputeLocalHessians(tracks, predicted, at_solution, shares);
-  } else {
-    // Self-calibration: the models re-taken with the solution's intrinsics, the same unknowns.
-    Reconstruction at = tracks;
-    FreeIntrinsics free;
-    for (const auto& [id, k] : result.intrinsics) {
-      ScatterIntrinsics(k.values, k.free, &at.cameras.at(id));
-      free[id] = k.free;
-    }
-    lr = ComputeLocalHessians(at, predicted, at_solution, shares, &free);
-  }
-  Models::Retaken r;
-  for (size_t j = 0; j < index.size(); ++j) {
-    if (lr.hessians[j].status != LocalHessianStatus::kOk) continue;  // keeps its previous model
-    r.index.push_back(index[j]);
-    r.frames.push_back(std::move(predicted[j]));
-    r.hessians.push_back(std::move(lr.hessians[j]));
-    r.hessians.back().motion_index = index[j];
-  }
-  return r;
-}
-
-// The true robust reprojection cost of the motions `used` used, from their models (the
-// re-taken one where there is one).
-double TotalRobustCost(const std::vector<LocalHessian>& models, const Models::Retaken* retaken,
-                       const GlobalBAResult& used) {
-  std::vector<const LocalHessian*> model(models.size());
-  for (size_t i = 0; i < models.size(); ++i) model[i] = &models[i];
-  if (retaken)
-    for (size_t j = 0; j < retaken->index.size(); ++j) model[retaken->index[j]] = &retaken->hessians[j];
-  double c = 0.0;
-  for (size_t i = 0; i < models.size(); ++i)
-    if (used.irls_weights[i] > 0) c += model[i]->robust_cost;
-  return c;
-}
+using internal::SharesOf;
+using internal::TotalRobustCost;
 
 // Median over the motions `relinearized` of |W_s (x_s - x_lin_s)| / (unit_s sigma_s): how far
 // `result` moved from the linearisation points (the local poses of `hessians[i]`), in noise
@@ -160,6 +65,16 @@ double Displacement(const GlobalBAResult& result, const std::vector<LocalHessian
   return d.empty() ? 0.0 : UpperMedian(d);
 }
 
+// `callback` seeing iterations counted on after `offset` (one continuous count over solves).
+GlobalBAIterationCallback Shifted(const GlobalBAIterationCallback& callback, int offset) {
+  if (!callback) return nullptr;
+  return [callback, offset](const GlobalBAIteration& it) {
+    GlobalBAIteration c = it;
+    c.iteration += offset;
+    callback(c);
+  };
+}
+
 // A re-linearised solve from `poses`, its iterations counted on after those in `total` (the
 // callback sees one continuous count) and added to it. It starts from the trust region the
 // previous solve ended with: the re-taken models differ little from the old ones near the
@@ -173,13 +88,7 @@ GlobalBAResult SolveAgain(const std::map<uint32_t, Pose>& poses, const Models& m
   GlobalBAOptions options = given;
   options.initial_trust_region_radius = std::max(given.initial_trust_region_radius, total->final_trust_region_radius);
   const int offset = total->iterations;
-  GlobalBAIterationCallback shifted;
-  if (callback)
-    shifted = [&callback, offset](const GlobalBAIteration& it) {
-      GlobalBAIteration c = it;
-      c.iteration += offset;
-      callback(c);
-    };
+  const GlobalBAIterationCallback shifted = Shifted(callback, offset);
   const auto solve = [&] {
     return RunGlobalBA(poses, models.frames(), models.hessians(), options, shifted, gcps, /*report_start=*/false);
   };
@@ -204,11 +113,6 @@ GlobalBAResult SolveAgain(const std::map<uint32_t, Pose>& poses, const Models& m
   total->cost_per_iteration.insert(total->cost_per_iteration.end(), s.cost_per_iteration.begin(),
                                    s.cost_per_iteration.end());
   return result;
-}
-
-ObservationShares SharesOf(const Reconstruction& tracks, const std::vector<LocalMotion>& motions,
-                           const LocalHessianOptions& at_solution) {
-  return at_solution.shared_observation_weighting ? CountObservationShares(tracks, motions) : ObservationShares();
 }
 
 // One Levenberg-Marquardt step on `models` from `poses`: a single iteration of the solve with
@@ -342,6 +246,50 @@ GlobalBAResult CheckedRelinearization(const Reconstruction& tracks, const LocalH
   return kept;
 }
 
+// GlobalBAOptions::relinearize_robust_passes_self_calibrating: the checked passes first on
+// Cauchy local Hessians (taken again at the motions' linearisation points), then on models
+// with the configured loss re-taken where those passes ended.
+GlobalBAResult RobustThenChecked(const Reconstruction& tracks, const LocalHessianOptions& lh_options,
+                                 const std::map<uint32_t, Pose>& initial_poses, const std::vector<LocalMotion>& motions,
+                                 const std::vector<LocalHessian>& hessians, const GlobalBAOptions& options,
+                                 const GlobalBAIterationCallback& callback, const GcpInput* gcps) {
+  Timer timer;
+  LocalHessianOptions robust = lh_options;
+  robust.loss = "cauchy";
+  const FreeIntrinsics free = FreeIntrinsicsOf(hessians);
+  const ObservationShares shares = SharesOf(tracks, motions, robust);
+  const LocalHessianResult first = ComputeLocalHessians(tracks, motions, robust, &shares, &free);
+  const double first_seconds = timer.Seconds();
+  GlobalBAOptions robust_passes = options;
+  robust_passes.max_relinearizations = options.relinearize_robust_passes_self_calibrating;
+  const GlobalBAResult r =
+      CheckedRelinearization(tracks, robust, initial_poses, motions, first.hessians, robust_passes, callback, gcps);
+  PGBA_LOG_INFO << "global BA: " << r.summary.relinearizations << " redescending (Cauchy) passes, then the local "
+                << "hessians with the " << lh_options.loss << " loss";
+  // The configured models where the Cauchy passes ended (the others as given).
+  Timer retake;
+  LocalHessianOptions at_solution = lh_options;
+  at_solution.max_iterations = 0;
+  Models models(motions, hessians);
+  models.Adopt(RelinearizeAt(tracks, at_solution, &shares, motions, r));
+  const double retake_seconds = retake.Seconds();
+  const int offset = r.summary.iterations;
+  const GlobalBAIterationCallback shifted = Shifted(callback, offset);
+  GlobalBAResult out = CheckedRelinearization(tracks, lh_options, r.poses, models.frames(), models.hessians(), options,
+                                              shifted, gcps);
+  GlobalBASummary& s = out.summary;
+  s.iterations += r.summary.iterations;
+  s.rounds += r.summary.rounds;
+  s.relinearizations += r.summary.relinearizations + 1;
+  s.relinearization_seconds += r.summary.relinearization_seconds + first_seconds + retake_seconds;
+  s.cost_per_iteration.insert(s.cost_per_iteration.begin(), r.summary.cost_per_iteration.begin(),
+                              r.summary.cost_per_iteration.end());
+  s.initial_cost = r.summary.initial_cost;
+  s.seconds = timer.Seconds();
+  for (auto& [id, k] : out.intrinsics) k.initial = r.intrinsics.at(id).initial;  // before every pass
+  return out;
+}
+
 }  // namespace
 
 GlobalBAResult RelinearizedGlobalBA(const Reconstruction& tracks, const LocalHessianOptions& lh_options,
@@ -354,6 +302,8 @@ GlobalBAResult RelinearizedGlobalBA(const Reconstruction& tracks, const LocalHes
     const bool self_calibrating =
         std::any_of(hessians.begin(), hessians.end(), [](const LocalHessian& h) { return h.num_intrinsics() > 0; });
     if (self_calibrating) passes.max_relinearizations = options.max_relinearizations_self_calibrating;
+    if (self_calibrating && options.relinearize_robust_passes_self_calibrating > 0)
+      return RobustThenChecked(tracks, lh_options, initial_poses, motions, hessians, passes, callback, gcps);
     return CheckedRelinearization(tracks, lh_options, initial_poses, motions, hessians, passes, callback, gcps);
   }
   Timer timer;

@@ -1,6 +1,7 @@
 #include "modules/local_hessian/local_bundle.h"
 
 #include <ceres/ceres.h>
+#include <ceres/jet.h>
 
 #include <Eigen/Eigenvalues>
 
@@ -10,6 +11,7 @@
 #include <memory>
 
 #include "pgba/geometry/triangulation.h"
+#include "pgba/optim/bundle_adjuster.h"
 
 namespace pgba {
 
@@ -21,6 +23,10 @@ double AttenuationWeight(int num_points, double q) {
 }
 
 namespace {
+
+// Gauss-Newton iterations of MovePointsToLossMinimum (a point's 3x3 problem: most stop on the
+// cost test after a few).
+constexpr int kLossMinimumIterations = 10;
 
 // Pose prior of the local BA: A (x - x_in) over the N pose blocks, A^T A = prior. Linear in
 // the poses, so its Jacobian is A itself.
@@ -49,14 +55,78 @@ class PosePriorCost : public ceres::CostFunction {
   Eigen::VectorXd center_;
 };
 
+// Each point moved to the minimum of the problem's loss over its kept observations, poses
+// and intrinsics held: Gauss-Newton with the loss's IRLS weights rho'(s), a step kept only if
+// it lowers the point's cost. The triangulation's point is the Huber estimate over the views
+// within max_reprojection_px, which is that minimum only for the Huber loss; under another
+// loss (Cauchy over every view up to cauchy_max_reprojection_px) h's Schur complement and
+// RobustCost must be taken where the loss puts the point, as the point-based BA's are, or
+// the true cost of a step disagrees with what its models predicted.
+void MovePointsToLossMinimum(LocalBundleProblem* p, int max_iterations) {
+  const std::unique_ptr<ceres::LossFunction> loss(MakeRobustLoss(p->loss, p->huber_px));
+  using Jet3 = ceres::Jet<double, 3>;
+  const auto rho = [&loss](double s, double out[3]) {
+    out[0] = s, out[1] = 1.0, out[2] = 0.0;
+    if (loss) loss->Evaluate(s, out);
+  };
+  std::vector<Jet3> pose(6);
+  size_t begin = 0;
+  while (begin < p->observations.size()) {
+    size_t end = begin;
+    while (end < p->observations.size() && p->observations[end].point == p->observations[begin].point) ++end;
+    Eigen::Vector3d& X = p->points[p->observations[begin].point];
+    const auto cost_at = [&](const Eigen::Vector3d& Y) {
+      double c = 0.0;
+      for (size_t i = begin; i < end; ++i) {
+        const LocalObservation& o = p->observations[i];
+        double r[2], f[3];
+        ReprojectionError(&p->CameraOf(o.view), p->poses[o.view].R0, o.pixel)(p->poses[o.view].x.data(), Y.data(), r);
+        rho(r[0] * r[0] + r[1] * r[1], f);
+        c += o.weight * f[0];
+      }
+      return c;
+    };
+    double cost = cost_at(X);
+    for (int it = 0; it < max_iterations; ++it) {
+      Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+      Eigen::Vector3d g = Eigen::Vector3d::Zero();
+      Jet3 Xj[3];
+      for (int k = 0; k < 3; ++k) Xj[k] = Jet3(X(k), k);
+      for (size_t i = begin; i < end; ++i) {
+        const LocalObservation& o = p->observations[i];
+        for (int k = 0; k < 6; ++k) pose[k] = Jet3(p->poses[o.view].x(k));
+        Jet3 r[2];
+        ReprojectionError(&p->CameraOf(o.view), p->poses[o.view].R0, o.pixel)(pose.data(), Xj, r);
+        Eigen::Matrix<double, 2, 3> J;
+        J << r[0].v.transpose(), r[1].v.transpose();
+        const Eigen::Vector2d e(r[0].a, r[1].a);
+        double f[3];
+        rho(e.squaredNorm(), f);
+        H += o.weight * f[1] * J.transpose() * J;
+        g += o.weight * f[1] * J.transpose() * e;
+      }
+      const Eigen::Vector3d dx = H.ldlt().solve(-g);
+      if (!dx.allFinite()) break;
+      const Eigen::Vector3d Y = X + dx;
+      const double c = cost_at(Y);
+      if (!(c < cost)) break;
+      X = Y;
+      cost = c;
+    }
+    begin = end;
+  }
+}
+
 }  // namespace
 
 LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const LocalMotion& motion,
                                            const LocalHessianOptions& options, LocalBundleProblem* problem,
                                            const ObservationShares* shares, const FreeIntrinsics* free) {
   *problem = LocalBundleProblem();
+  problem->loss = options.loss;
   problem->huber_px = options.huber_px;
-  problem->max_reprojection_px = options.max_reprojection_px;
+  problem->max_reprojection_px =
+      options.loss == "cauchy" ? options.cauchy_max_reprojection_px : options.max_reprojection_px;
   const int n = motion.num_views();
   if (n < 2 || static_cast<int>(motion.local_poses.size()) != n) return LocalHessianStatus::kInvalidInput;
   std::vector<const Image*> images(n);
@@ -136,7 +206,7 @@ LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const L
     // Keep the observations consistent with the point; a point needs two of them.
     const size_t first = problem->observations.size();
     for (size_t v = 0; v < views.size(); ++v)
-      if (X.residuals_px[v] <= options.max_reprojection_px) {
+      if (X.residuals_px[v] <= problem->max_reprojection_px) {
         double w = 1.0;
         if (shares) {
           const auto it = shares->find({motion.image_ids[view_of[v]], track_id});
@@ -152,6 +222,7 @@ LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const L
   }
   const int m = static_cast<int>(problem->points.size());
   if (m < std::max(options.min_points, 1)) return LocalHessianStatus::kTooFewPoints;
+  if (options.loss != "huber") MovePointsToLossMinimum(problem, kLossMinimumIterations);
   problem->observation_weight = AttenuationWeight(m, options.attenuation_q);
   problem->prior_center.resize(6 * n);
   for (int k = 0; k < n; ++k) problem->prior_center.segment<6>(6 * k) = problem->poses[k].x;
@@ -160,9 +231,9 @@ LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const L
 
 bool SolveLocalBundle(int max_iterations, LocalBundleProblem* p, bool fix_gauge) {
   if (max_iterations > 0) {
-    // Huber on the pixel error, then the attenuation weight on the squared residual: one loss
-    // object per distinct weight (1, or 1/n with shared_observation_weighting), shared by the
-    // observations that have it.
+    // The robust loss on the pixel error, then the attenuation weight on the squared residual:
+    // one loss object per distinct weight (1, or 1/n with shared_observation_weighting), shared
+    // by the observations that have it.
     std::map<double, std::unique_ptr<ceres::LossFunction>> losses;
     ceres::Problem::Options po;
     po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
@@ -178,7 +249,7 @@ bool SolveLocalBundle(int max_iterations, LocalBundleProblem* p, bool fix_gauge)
     for (const LocalObservation& o : p->observations) {
       std::unique_ptr<ceres::LossFunction>& l = losses[o.weight];
       if (!l)
-        l = std::make_unique<ceres::ScaledLoss>(new ceres::HuberLoss(p->huber_px), p->observation_weight * o.weight,
+        l = std::make_unique<ceres::ScaledLoss>(MakeRobustLoss(p->loss, p->huber_px), p->observation_weight * o.weight,
                                                 ceres::TAKE_OWNERSHIP);
       const int c = p->view_intrinsics[o.view];
       if (c >= 0) {
@@ -231,19 +302,23 @@ double MedianDepth(const LocalBundleProblem& p) {
 }
 
 double RobustCost(const LocalBundleProblem& p) {
-  const auto huber = [&p](double e2) {
-    const double e = std::sqrt(e2);
-    return e <= p.huber_px ? e2 : 2.0 * p.huber_px * e - p.huber_px * p.huber_px;
+  const std::unique_ptr<ceres::LossFunction> loss(MakeRobustLoss(p.loss, p.huber_px));
+  const auto rho = [&loss](double s) {
+    if (!loss) return s;
+    double r[3];
+    loss->Evaluate(s, r);
+    return r[0];
   };
+  const double cap = p.max_reprojection_px * p.max_reprojection_px;
   double cost = 0.0;
   for (const LocalObservation& o : p.observations) {
     const ReprojectionError e(&p.CameraOf(o.view), p.poses[o.view].R0, o.pixel);
     double r[2];
     e(p.poses[o.view].x.data(), p.points[o.point].data(), r);
-    cost += huber(std::min(r[0] * r[0] + r[1] * r[1], p.max_reprojection_px * p.max_reprojection_px));
+    cost += rho(std::min(r[0] * r[0] + r[1] * r[1], cap));
   }
   const int dropped = std::max(0, p.num_candidate_observations - static_cast<int>(p.observations.size()));
-  return cost + dropped * huber(p.max_reprojection_px * p.max_reprojection_px);
+  return cost + dropped * rho(cap);
 }
 
 double RmsReprojectionPx(const LocalBundleProblem& p) {

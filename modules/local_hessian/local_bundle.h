@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <string>
 #include <vector>
 
 #include "modules/local_hessian/local_hessian.h"
@@ -47,6 +48,8 @@ struct LocalBundleProblem {
   std::vector<LocalObservation> observations;
   // Weight of each squared residual: gamma / M (paper's attenuation), 1 if disabled.
   double observation_weight = 1.0;
+  // Robust loss and its scale (LocalHessianOptions::loss, huber_px).
+  std::string loss = "huber";
   double huber_px = 1.0;
   // Optional pose prior of the local BA (PriorPlacement::kLocalBAAndHessian): cost
   // 1/2 (x - x_in)^T prior (x - x_in) over the stacked 6N-vector of the pose blocks,
@@ -56,6 +59,8 @@ struct LocalBundleProblem {
   // Observations of the motion's tracks in its views before the gross-outlier filter (those
   // of tracks that failed to triangulate included): the denominator of RobustCost.
   int num_candidate_observations = 0;
+  // Observations beyond this were dropped, and RobustCost caps every error here
+  // (LocalHessianOptions: max_reprojection_px, or cauchy_max_reprojection_px for Cauchy).
   double max_reprojection_px = 4.0;
 
   int num_views() const { return static_cast<int>(poses.size()); }
@@ -67,10 +72,11 @@ struct LocalBundleProblem {
   }
 };
 
-// The motion's robust reprojection cost at its current poses and points: Huber (huber_px) of
-// every kept observation's pixel error, and the Huber cost of max_reprojection_px for every
-// candidate observation the filter dropped, so that costs at different poses compare over the
-// same observations (the damped re-linearisation of the global BA accepts a step by it).
+// The motion's robust reprojection cost at its current poses and points: the loss (rho of
+// the squared pixel error, scale huber_px) of every kept observation, and its value at
+// max_reprojection_px for every candidate observation the filter dropped, so that costs at
+// different poses compare over the same observations (the checked re-linearisation of the
+// global BA accepts a step by it).
 double RobustCost(const LocalBundleProblem& problem);
 
 // gamma / M with gamma = M Q / (M + Q) (paper, implementation details); 1 for Q <= 0 or inf.

@@ -83,11 +83,23 @@ struct LocalHessianOptions {
   // disables it: weight 1 per observation, h is the plain (unattenuated) information and
   // grows with M.
   double attenuation_q = 10.0;
-  // Huber threshold on the pixel reprojection error (local BA and h's IRLS weights).
+  // Robust loss on the pixel reprojection error of the local BA, of h's IRLS weights and of
+  // the robust cost (MakeRobustLoss, optim/bundle_adjuster.h): "huber" or "cauchy" (the
+  // point-based BA's first pass: redescending, a camera far off still feels the observations
+  // it lost), scale huber_px.
+  std::string loss = "huber";
+  // Scale of the loss (Huber: the pixel error where it turns linear; Cauchy: where the
+  // weight has halved).
   double huber_px = 1.0;
   // Observations whose reprojection error after triangulation exceeds this (pixels) are left
   // out of the triplet's problem (gross outliers); a point left with < 2 views is dropped.
+  // With loss "cauchy" it is only the triangulation's outlier threshold (the point is the
+  // inliers' estimate) and observations are kept up to cauchy_max_reprojection_px.
   double max_reprojection_px = 4.0;
+  // With loss "cauchy": observations kept up to this (pixels), the robust cost capped there.
+  // Beyond ~30 px the Cauchy weight (1 / (1 + (e / huber_px)^2)) is below 1e-3: the cap only
+  // keeps the cost of a view that cannot be triangulated finite and comparable.
+  double cauchy_max_reprojection_px = 64.0;
   // Triplets with fewer points are rejected (paper: 30).
   int min_points = 30;
   // Gauge prior ("all three extrinsics observed"): mu = prior_relative * largest eigenvalue
@@ -118,8 +130,8 @@ struct LocalHessianOptions {
   // image pair). Off: the paper's attenuation only.
   bool shared_observation_weighting = false;
 };
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(LocalHessianOptions, max_iterations, attenuation_q, huber_px,
-                                                max_reprojection_px, min_points, prior_shape, prior_relative,
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(LocalHessianOptions, max_iterations, attenuation_q, loss, huber_px,
+                                                max_reprojection_px, cauchy_max_reprojection_px, min_points, prior_shape, prior_relative,
                                                 prior_scale_aware, prior_placement, min_eigenvalue_ratio,
                                                 min_triangulation_angle_deg, num_threads, shared_observation_weighting,
                                                 factor)

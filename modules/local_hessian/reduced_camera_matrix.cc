@@ -1,12 +1,15 @@
 #include "modules/local_hessian/reduced_camera_matrix.h"
 
 #include <ceres/jet.h>
+#include <ceres/loss_function.h>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/QR>
 #include <cmath>
+#include <memory>
 
 #include "pgba/geometry/rotation.h"
+#include "pgba/optim/bundle_adjuster.h"
 #include "pgba/optim/intrinsics.h"
 
 namespace pgba {
@@ -97,7 +100,9 @@ ReducedCameraSystem ReducedCameraMatrix(const LocalBundleProblem& p) {
   out.h = Eigen::MatrixXd::Zero(n, n);
   out.g = Eigen::VectorXd::Zero(n);
   Eigen::Matrix<double, Eigen::Dynamic, 3> Hcp(n, 3);
-  const double huber2 = p.huber_px * p.huber_px;
+  // IRLS weight of the loss: rho'(s) of the squared error s, as Ceres' loss correction takes
+  // it where rho'' <= 0 (Huber's linear part, Cauchy everywhere).
+  const std::unique_ptr<ceres::LossFunction> loss(MakeRobustLoss(p.loss, p.huber_px));
   // The rows a point touches: its views' pose blocks, then its free cameras' intrinsics
   // (a camera shared by several of its views once).
   struct Segment {
@@ -119,10 +124,9 @@ ReducedCameraSystem ReducedCameraMatrix(const LocalBundleProblem& p) {
       Eigen::Matrix<double, 2, 3> Jp;
       Eigen::MatrixXd Jk;
       ObservationJacobian(p, o, &r, &Jc, &Jp, &Jk);
-      // IRLS weight of Huber: rho'(s) = 1 inside, delta / |r| outside (rho'' <= 0 there, so
-      // Ceres' corrector reduces to this too), times the attenuation.
-      const double s = r.squaredNorm();
-      const double w = p.observation_weight * o.weight * (s <= huber2 ? 1.0 : p.huber_px / std::sqrt(s));
+      double rho[3] = {0.0, 1.0, 0.0};
+      if (loss) loss->Evaluate(r.squaredNorm(), rho);
+      const double w = p.observation_weight * o.weight * rho[1];
       const int c = 6 * o.view;
       out.h.block<6, 6>(c, c) += w * Jc.transpose() * Jc;
       out.g.segment<6>(c) += w * Jc.transpose() * r;

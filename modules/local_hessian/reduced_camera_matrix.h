@@ -15,9 +15,9 @@ struct ReducedCameraSystem {
   int num_points_used = 0;  // points whose H_pp was invertible
 };
 
-// Normal equations H = J^T W J of the weighted, Huber-robustified reprojection residuals
-// (IRLS weights observation_weight * rho'(|r|^2), exactly what Ceres' loss correction does
-// for Huber) at the problem's current state, Schur-complemented on the points one 3x3
+// Normal equations H = J^T W J of the weighted, robustified reprojection residuals (IRLS
+// weights observation_weight * rho'(|r|^2) from the problem's loss object, exactly what
+// Ceres' loss correction does for Huber and Cauchy) at the problem's current state, Schur-complemented on the points one 3x3
 // block at a time (paper eq. 3), without ever forming the dense H_pp^-1. The poses must be
 // linearised (omega = 0) so that h is in the chart centred at them. A point whose H_pp is
 // singular contributes through the pseudo-inverse. The pose prior of the problem, if any, is

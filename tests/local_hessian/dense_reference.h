@@ -8,11 +8,12 @@
 #include <vector>
 
 #include "modules/local_hessian/local_bundle.h"
+#include "pgba/optim/bundle_adjuster.h"
 
 namespace pgba::testing {
 
 // Covariance of the local BA of `p` over [poses (6N), points (3M)]: Ceres' Jacobian of the
-// weighted, Huber-robustified residuals (Problem::Evaluate with the loss correction),
+// weighted residuals robustified by the problem's loss (Problem::Evaluate with the loss correction),
 // H = J^T J plus `pose_prior` on the pose block, inverted densely. No Schur complement, so
 // ReducedCameraMatrix can be checked against the inverse of its camera block.
 inline Eigen::MatrixXd DenseCovariance(const LocalBundleProblem& p, const Eigen::MatrixXd& pose_prior) {
@@ -25,7 +26,7 @@ inline Eigen::MatrixXd DenseCovariance(const LocalBundleProblem& p, const Eigen:
   for (const LocalObservation& o : p.observations)
     problem.AddResidualBlock(
         ReprojectionError::Create(p.cameras[o.view], poses[o.view].R0, o.pixel),
-        new ceres::ScaledLoss(new ceres::HuberLoss(p.huber_px), p.observation_weight, ceres::TAKE_OWNERSHIP),
+        new ceres::ScaledLoss(MakeRobustLoss(p.loss, p.huber_px), p.observation_weight, ceres::TAKE_OWNERSHIP),
         poses[o.view].x.data(), points[o.point].data());
   ceres::Problem::EvaluateOptions eo;
   eo.parameter_blocks = blocks;

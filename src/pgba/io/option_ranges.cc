@@ -187,6 +187,7 @@ Table BuildTable() {
   t["local_hessian.attenuation_q"] = Unbounded();  // <= 0 disables the attenuation
   t["local_hessian.huber_px"] = kPositive;
   t["local_hessian.max_reprojection_px"] = kPositive;
+  t["local_hessian.cauchy_max_reprojection_px"] = kPositive;
   t["local_hessian.min_points"] = kAtLeastOne;
   t["local_hessian.prior_relative"] = kPositive;
   t["local_hessian.min_eigenvalue_ratio"] = kNonNegative;
@@ -214,6 +215,7 @@ Table BuildTable() {
   t["global_ba.relinearized_function_tolerance"] = kNonNegative;
   t["global_ba.relinearize_damped_steps"] = kNonNegative;
   t["global_ba.relinearize_damping_radius"] = kPositive;
+  t["global_ba.relinearize_robust_passes_self_calibrating"] = kNonNegative;
   // point_based (mapper/pose_refinement.h)
   AddBundleAdjuster("point_based.bundle", &t);
   t["point_based.filter_max_error_px"] = Unbounded();  // <= 0: a single pass
@@ -246,6 +248,7 @@ const std::map<std::string, std::vector<std::string>>& ChoiceTable() {
       t[prefix + ".scoring"] = MethodNames(kPoseScoringNames);   // RelativePoseOptions::scoring
       t[prefix + ".algorithm"] = MethodNames(kPoseSolverNames);  // RelativePoseOptions::algorithm
     }
+    t["local_hessian.loss"] = {"huber", "cauchy", "trivial"};  // MakeRobustLoss (optim/bundle_adjuster.h)
     return t;
   }();
   return table;

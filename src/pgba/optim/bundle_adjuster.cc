@@ -16,6 +16,14 @@
 #include "pgba/util/timer.h"
 
 namespace pgba {
+
+ceres::LossFunction* MakeRobustLoss(const std::string& name, double scale_px) {
+  if (name == "huber") return new ceres::HuberLoss(scale_px);
+  if (name == "cauchy") return new ceres::CauchyLoss(scale_px);
+  if (name == "trivial") return nullptr;
+  throw std::invalid_argument("unknown robust loss '" + name + "' (huber, cauchy, trivial)");
+}
+
 namespace {
 
 // Points x with |x - c| = const: Ceres' sphere manifold translated to centre c. Used on the
@@ -51,12 +59,7 @@ class OffsetSphereManifold final : public ceres::Manifold {
   ceres::SphereManifold<3> sphere_;
 };
 
-ceres::LossFunction* MakeLoss(const BundleAdjusterOptions& o) {
-  if (o.loss == "huber") return new ceres::HuberLoss(o.loss_scale_px);
-  if (o.loss == "cauchy") return new ceres::CauchyLoss(o.loss_scale_px);
-  if (o.loss == "trivial") return nullptr;
-  throw std::invalid_argument("unknown bundle adjuster loss '" + o.loss + "' (huber, cauchy, trivial)");
-}
+ceres::LossFunction* MakeLoss(const BundleAdjusterOptions& o) { return MakeRobustLoss(o.loss, o.loss_scale_px); }
 
 ceres::LinearSolverType ChooseLinearSolver(const BundleAdjusterOptions& o, int free_poses, bool constant_points) {
   // Without free points there is nothing to eliminate: a pose-only problem.

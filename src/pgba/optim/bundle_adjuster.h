@@ -20,7 +20,17 @@
 #include "pgba/optim/intrinsics.h"
 #include "pgba/scene/reconstruction.h"
 
+namespace ceres {
+class LossFunction;
+}
+
 namespace pgba {
+
+// The robust loss `name` at `scale_px` (pixels), owned by the caller: "huber", "cauchy", or
+// "trivial" (nullptr: plain least squares); std::invalid_argument for another name. One
+// object gives every user the cost rho(s) and the IRLS weight rho'(s) of a squared residual s
+// (its Evaluate), so no caller writes the loss out by hand.
+ceres::LossFunction* MakeRobustLoss(const std::string& name, double scale_px);
 
 struct BundleAdjusterOptions {
   // Robust loss on each observation's 2-vector residual: "huber" (default), "cauchy" or
