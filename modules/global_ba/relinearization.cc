@@ -181,7 +181,7 @@ GlobalBAResult CheckedRelinearization(const Reconstruction& tracks, const LocalH
   };
   while (kept_steps < max_kept) {
     Timer pass;
-    Models::Retaken retaken = RelinearizeAt(tracks, at_solution, &shares, motions, trial);
+    Models::Retaken retaken = RelinearizeAt(tracks, at_solution, &shares, motions, models, trial);
     total.relinearization_seconds += pass.Seconds();
     const double trial_cost = TotalRobustCost(models.hessians(), &retaken, trial);
     const double predicted = 2.0 * (trial.summary.initial_cost - trial.summary.final_cost);
@@ -271,7 +271,7 @@ GlobalBAResult RobustThenChecked(const Reconstruction& tracks, const LocalHessia
   LocalHessianOptions at_solution = lh_options;
   at_solution.max_iterations = 0;
   Models models(motions, hessians);
-  models.Adopt(RelinearizeAt(tracks, at_solution, &shares, motions, r));
+  models.Adopt(RelinearizeAt(tracks, at_solution, &shares, motions, models, r));
   const double retake_seconds = retake.Seconds();
   const int offset = r.summary.iterations;
   const GlobalBAIterationCallback shifted = Shifted(callback, offset);
@@ -324,7 +324,7 @@ GlobalBAResult RelinearizedGlobalBA(const Reconstruction& tracks, const LocalHes
     Models models(motions, hessians);
     for (int k = 1; k <= options.max_relinearizations; ++k) {
       Timer pass;
-      Models::Retaken retaken = RelinearizeAt(tracks, at_solution, &shares, motions, result);
+      Models::Retaken retaken = RelinearizeAt(tracks, at_solution, &shares, motions, models, result);
       const std::vector<int> relinearized = retaken.index;
       models.Adopt(std::move(retaken));
       total.relinearization_seconds += pass.Seconds();

@@ -28,7 +28,7 @@ void Models::Adopt(Retaken&& r) {
 
 Models::Retaken RelinearizeAt(const Reconstruction& tracks, const LocalHessianOptions& at_solution,
                               const ObservationShares* shares, const std::vector<LocalMotion>& motions,
-                              const GlobalBAResult& result) {
+                              const Models& models, const GlobalBAResult& result) {
   std::vector<LocalMotion> predicted;
   std::vector<int> index;
   for (size_t i = 0; i < motions.size(); ++i) {
@@ -36,6 +36,13 @@ Models::Retaken RelinearizeAt(const Reconstruction& tracks, const LocalHessianOp
     LocalMotion t = motions[i];
     t.global_to_local = result.similarities[i];
     for (int v = 0; v < t.num_views(); ++v) t.local_poses[v] = t.global_to_local.Apply(result.poses.at(t.image_ids[v]));
+    t.track_points = models.hessians()[i].track_points;
+    if (t.track_points.size() == t.track_ids.size()) {
+      const Sim3 old_to_new = t.global_to_local * models.frames()[i].global_to_local.Inverse();
+      for (PointStart& p : t.track_points) p.X = old_to_new.Apply(p.X);
+    } else {
+      t.track_points.clear();
+    }
     predicted.push_back(std::move(t));
     index.push_back(static_cast<int>(i));
   }

@@ -40,10 +40,13 @@ class Models {
 
 
 // The local Hessians of `motions` re-taken where `result` puts them (points re-triangulated,
-// no local iteration): only the motions `result` used and whose Hessian came out ok.
+// no local iteration): only the motions `result` used and whose Hessian came out ok. Each
+// track is triangulated from its point in the model in force (`models`), moved into the new
+// frame (TriangulateTrackFrom): the checked cost is then continuous along a step, where a
+// triangulation from scratch dropped points whose consensus search chose another solution.
 Models::Retaken RelinearizeAt(const Reconstruction& tracks, const LocalHessianOptions& at_solution,
                               const ObservationShares* shares, const std::vector<LocalMotion>& motions,
-                              const GlobalBAResult& result);
+                              const Models& models, const GlobalBAResult& result);
 
 // The true robust reprojection cost of the motions `used` used, from their models (the
 // re-taken one where there is one).

@@ -182,7 +182,9 @@ LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const L
   std::vector<int> view_of;
   views.reserve(n);
   view_of.reserve(n);
-  for (const uint64_t track_id : motion.track_ids) {
+  const bool warm = motion.track_points.size() == motion.track_ids.size();
+  for (size_t ti = 0; ti < motion.track_ids.size(); ++ti) {
+    const uint64_t track_id = motion.track_ids[ti];
     const auto pit = tracks.points3D.find(track_id);
     if (pit == tracks.points3D.end()) return LocalHessianStatus::kInvalidInput;
     std::fill(point2D_idx.begin(), point2D_idx.end(), -1);
@@ -201,7 +203,8 @@ LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const L
     }
     if (views.size() < 2) continue;
     problem->num_candidate_observations += static_cast<int>(views.size());
-    const TriangulatedPoint X = TriangulateTrack(views, tri);
+    const TriangulatedPoint X =
+        warm ? TriangulateTrackFrom(views, motion.track_points[ti], tri) : TriangulateTrack(views, tri);
     if (!X.ok) continue;
     // Keep the observations consistent with the point; a point needs two of them.
     const size_t first = problem->observations.size();
@@ -219,6 +222,7 @@ LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const L
       continue;
     }
     problem->points.push_back(X.X);
+    problem->point_track.push_back(static_cast<int>(ti));
   }
   const int m = static_cast<int>(problem->points.size());
   if (m < std::max(options.min_points, 1)) return LocalHessianStatus::kTooFewPoints;

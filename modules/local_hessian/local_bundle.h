@@ -44,6 +44,7 @@ struct LocalBundleProblem {
   std::vector<int> view_intrinsics;
   LocalIntrinsics intrinsics;
   std::vector<Eigen::Vector3d> points;
+  std::vector<int> point_track;  // per point, its index in LocalMotion::track_ids
   // Grouped by point (all observations of point i are contiguous, in view order).
   std::vector<LocalObservation> observations;
   // Weight of each squared residual: gamma / M (paper's attenuation), 1 if disabled.

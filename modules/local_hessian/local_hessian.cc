@@ -73,6 +73,9 @@ LocalHessian ComputeLocalHessian(const Reconstruction& tracks, const LocalMotion
   out.intrinsics0.resize(in.num_unknowns);
   for (size_t c = 0; c < in.cameras.size(); ++c)
     out.intrinsics0.segment(in.offset[c], in.free[c].size()) = GatherIntrinsics(in.cameras[c], in.free[c]);
+  out.track_points.assign(motion.track_ids.size(), PointStart());
+  for (size_t i = 0; i < problem.points.size(); ++i) out.track_points[problem.point_track[i]].X = problem.points[i];
+  for (const LocalObservation& o : problem.observations) ++out.track_points[problem.point_track[o.point]].support;
   out.rms_px = RmsReprojectionPx(problem);
   out.robust_cost = RobustCost(problem);
   out.depth_scale = MedianDepth(problem);

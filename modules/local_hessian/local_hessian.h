@@ -186,6 +186,10 @@ struct LocalHessian {
   // Eigenvalue ratio of the rank test ((6N-7)-th largest / largest, scale-aware chart, no prior);
   // 0 when the rank test is off (not computed).
   double eigenvalue_ratio = 0.0;
+  // The points at local_poses and their kept observations, aligned with the motion's track_ids
+  // (NaN for a track that gave no point): the start of the next re-linearisation's
+  // triangulation.
+  std::vector<PointStart> track_points;
   int num_points = 0;
   int num_observations = 0;
   // Unweighted RMS reprojection error (pixels) after the local BA.

@@ -60,13 +60,16 @@ TEST_F(ReconstructCli, AccurateModelAndWorkspaceReRunGivesTheSamePoses) {
   EXPECT_LT(final["sigma_rms"].get<double>(), 0.9 * init["sigma_rms"].get<double>());
 
   ASSERT_EQ(Run("reconstruct" + tracks + " --out " + again.string() + " --workspace " + out.string()).code, 0);
-  // Same poses up to the text round trip of the stored artefacts (17 significant digits).
+  // Same poses up to the text round trip of the stored artefacts (17 significant digits) and
+  // the first re-linearisation's triangulation: local_hessians.json holds the models, not their
+  // points, so the re-run triangulates that pass from scratch where the first run started from
+  // the previous pass's points (measured: up to 4e-6 deg).
   const pgba::Reconstruction a = pgba::ReadColmapText((out / "sparse").string());
   const pgba::Reconstruction b = pgba::ReadColmapText((again / "sparse").string());
   ASSERT_EQ(a.images.size(), b.images.size());
   for (const auto& [id, im] : a.images) {
     EXPECT_LT((im.pose.C() - b.images.at(id).pose.C()).norm(), 1e-6 * 1000.0) << im.name;  // 1 mm on ~1 km
-    EXPECT_LT(pgba::RotationAngleDeg(im.pose.R(), b.images.at(id).pose.R()), 1e-6) << im.name;
+    EXPECT_LT(pgba::RotationAngleDeg(im.pose.R(), b.images.at(id).pose.R()), 1e-5) << im.name;
   }
   std::ifstream in(again / "report.json");
   const nlohmann::json report = nlohmann::json::parse(in);

@@ -149,10 +149,11 @@ INSTANTIATE_TEST_SUITE_P(Scenarios, DefaultOnScene,
 // pointless BA puts the poses (mapper/linearization_start.h); from the initial poses they had
 // ended 42x less accurate than the point-based BA. Measured here: misfit 1140.6 (threshold
 // 300); with the start over 125 of the 260 triplets (local_motions.triplet_start_max_per_image
-// 2) relative rotation error median 0.994x, max 0.919x point-based, sigma 0.9996x (over all
-// 260: 0.951x, 0.908x); the bounds sit ~1.5% above. Iterations of the pointless BA (all
-// passes): 13 = 4 + 4 + 5; before the embedded similarity iterations and the carried trust
-// region, 33 (the last solve crawled to its cap of 25 along the scale valley:
+// 2) and three re-linearisations (converged; each re-triangulation started from the previous
+// pass's points) relative rotation error median 1.001x, max 0.966x point-based, sigma 1.0003x
+// (two passes, triangulated from scratch: 0.994x, 0.919x); the bounds sit ~1.5% above.
+// Iterations of the pointless BA (all passes): 12 = 4 + 4 + 4; before the embedded similarity
+// iterations and the carried trust region, 33 (the last solve crawled to its cap of 25 along the scale valley:
 // motion_normal_equations.cc, OptimizeSimilarity).
 TEST(DefaultOnLongFocal, TripletStartReachesPointBasedPoses) {
   const SyntheticScene scene = test::AcceptanceScene(SyntheticScenario::kLongFocal, 0, /*seed=*/1);
@@ -175,8 +176,8 @@ TEST(DefaultOnLongFocal, TripletStartReachesPointBasedPoses) {
   ASSERT_TRUE(pl.metrics.ground_truth && pb.metrics.ground_truth);
   const GroundTruthErrors& gl = *pl.metrics.ground_truth;
   const GroundTruthErrors& gb = *pb.metrics.ground_truth;
-  EXPECT_LE(gl.rel_rot_err_deg_median, 1.009 * gb.rel_rot_err_deg_median);
-  EXPECT_LE(gl.rel_rot_err_deg_max, 0.933 * gb.rel_rot_err_deg_max);
+  EXPECT_LE(gl.rel_rot_err_deg_median, 1.016 * gb.rel_rot_err_deg_median);
+  EXPECT_LE(gl.rel_rot_err_deg_max, 0.981 * gb.rel_rot_err_deg_max);
   EXPECT_LE(pl.metrics.sigma.rms, 1.001 * pb.metrics.sigma.rms);
   EXPECT_LE(pl.refinement.iterations, 14);
   EXPECT_LE(4 * pl.refinement.num_params, pb.refinement.num_params);

@@ -168,6 +168,11 @@ TEST_F(RealDataSelfCalibration, TempleRingWithAWrongFocalPrior) {
             << ep["rel_rot_err_deg_median"] << "\n";
   EXPECT_EQ(ec["images_registered"], 16);
   EXPECT_EQ(ep["images_registered"], 16);
+  // The rotations as good as calibrated (issue 14's bar: 1.3x). Measured since the
+  // re-linearisations triangulate from the previous pass's points (session 17): 0.2149 / 0.2499
+  // deg (Sim3 / rel) against 0.2108 / 0.2286 calibrated, 1.02x / 1.09x; before, 0.58 / 0.56 deg.
+  EXPECT_LT(ep["rot_err_deg_median"].get<double>(), 1.05 * ec["rot_err_deg_median"].get<double>());
+  EXPECT_LT(ep["rel_rot_err_deg_median"].get<double>(), 1.12 * ec["rel_rot_err_deg_median"].get<double>());
   const auto [model, est] = FirstCamera(dir_ / "prior" / "sparse" / "cameras.txt");
   const auto [gt_model, gt] = FirstCamera(data_ / "cameras.txt");
   ASSERT_EQ(model, "PINHOLE");

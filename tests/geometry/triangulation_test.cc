@@ -215,6 +215,37 @@ TEST(Triangulation, RobustToOneGrossOutlier) {
   EXPECT_GT(checked, 250);
 }
 
+// A start near the solution (a previous pass's point, the poses since moved a little): the
+// refinement from it reaches the point the full search finds, outlier flagged, without the
+// search; a start whose refinement keeps fewer views than it claims (a point that another
+// basin would decide) falls back to the full search, the same bits as TriangulateTrack.
+TEST(Triangulation, FromAStartReachesTheFullSearchsPointOrFallsBackToIt) {
+  std::mt19937 rng(11);
+  const Camera cam = MakeCamera(CameraModel::kPinhole);
+  std::normal_distribution<double> noise(0.0, 0.5);
+  for (int trial = 0; trial < 100; ++trial) {
+    Scene s = MakeScene(rng, &cam, 6);
+    for (auto& v : s.views) v.pixel += Eigen::Vector2d(noise(rng), noise(rng));
+    s.views[trial % 6].pixel += Eigen::Vector2d(300.0, -200.0);  // one gross outlier
+    const TriangulatedPoint full = TriangulateTrack(s.views);
+    ASSERT_TRUE(full.ok) << trial;
+    PointStart near;
+    near.X = full.X + Eigen::Vector3d(0.01, -0.02, 0.015);  // ~0.5 px at 10 m, focal ~1000 px
+    near.support = 5;
+    const TriangulatedPoint warm = TriangulateTrackFrom(s.views, near);
+    ASSERT_TRUE(warm.ok) << trial;
+    EXPECT_LT((warm.X - full.X).norm(), 1e-7) << trial;
+    EXPECT_GT(warm.residuals_px[trial % 6], 4.0) << trial;
+
+    PointStart far;
+    far.X = full.X + Eigen::Vector3d(0.0, 0.0, 40.0);  // behind or far off every camera's ray
+    far.support = 6;  // more than the refinement can keep: the outlier stays out
+    const TriangulatedPoint fallback = TriangulateTrackFrom(s.views, far);
+    ASSERT_TRUE(fallback.ok) << trial;
+    EXPECT_EQ(fallback.X, full.X) << trial;
+  }
+}
+
 // A long track (80 views, more than the consensus samples) with 30% gross outliers: the
 // inliers' estimate is recovered and exactly the outliers are flagged.
 TEST(Triangulation, LongTrackWithManyOutliers) {

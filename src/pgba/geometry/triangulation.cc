@@ -289,6 +289,23 @@ Candidate RobustRefine(const std::vector<TrackView>& views, const Eigen::Vector3
   return best;
 }
 
+// The point of `best` if it is one (in front of two views) and its supporting views see it
+// under at least min_angle_deg.
+TriangulatedPoint Accepted(const std::vector<TrackView>& views, Candidate best, const TriangulationOptions& opt) {
+  TriangulatedPoint out;
+  if (!best.ok) return out;
+  // The angle that makes depth observable is the one between views that support the point.
+  std::vector<TrackView> support;
+  const std::vector<size_t> inl = Below(best.res, opt.outlier_px);
+  for (size_t i : (inl.size() >= 2 ? inl : Below(best.res, kBehind))) support.push_back(views[i]);
+  out.max_angle_deg = MaxTriangulationAngleDeg(support, best.X);
+  if (out.max_angle_deg < opt.min_angle_deg) return out;
+  out.ok = true;
+  out.X = best.X;
+  out.residuals_px = std::move(best.res);
+  return out;
+}
+
 }  // namespace
 
 double MaxTriangulationAngleDeg(const std::vector<TrackView>& views, const Eigen::Vector3d& X) {
@@ -337,17 +354,15 @@ TriangulatedPoint TriangulateTrack(const std::vector<TrackView>& views, const Tr
       if (Better(c, best)) best = c;
     }
   }
-  if (!best.ok) return out;
-  // The angle that makes depth observable is the one between views that support the point.
-  std::vector<TrackView> support;
-  const std::vector<size_t> inl = Below(best.res, opt.outlier_px);
-  for (size_t i : (inl.size() >= 2 ? inl : Below(best.res, kBehind))) support.push_back(views[i]);
-  out.max_angle_deg = MaxTriangulationAngleDeg(support, best.X);
-  if (out.max_angle_deg < opt.min_angle_deg) return out;
-  out.ok = true;
-  out.X = best.X;
-  out.residuals_px = std::move(best.res);
-  return out;
+  return Accepted(views, std::move(best), opt);
+}
+
+TriangulatedPoint TriangulateTrackFrom(const std::vector<TrackView>& views, const PointStart& start,
+                                       const TriangulationOptions& opt) {
+  if (views.size() < 2 || !start.X.allFinite() || start.support < 2) return TriangulateTrack(views, opt);
+  Candidate best = RobustRefine(views, start.X, opt);
+  if (!best.ok || best.inliers < static_cast<size_t>(start.support)) return TriangulateTrack(views, opt);
+  return Accepted(views, std::move(best), opt);
 }
 
 }  // namespace pgba

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
 #include <vector>
 
 #include "pgba/geometry/pose.h"
@@ -51,6 +52,22 @@ bool TriangulateLinear(const std::vector<Pose>& poses, const std::vector<Eigen::
 // When fewer than 2 views are within outlier_px (e.g. poor poses), the point is the Huber
 // estimate over all views in front, so errors of bad poses are still measurable.
 TriangulatedPoint TriangulateTrack(const std::vector<TrackView>& views, const TriangulationOptions& options = {});
+
+// A track's point from a previous triangulation over nearby poses, and how many views
+// supported it (reprojection error below outlier_px).
+struct PointStart {
+  Eigen::Vector3d X = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  int support = 0;
+};
+
+// TriangulateTrack from a start near the solution: robust refinement from start.X, kept if
+// at least start.support views support it, else the full search of TriangulateTrack.
+// Re-linearisation passes re-triangulate every track after a small pose step; the linear
+// solution and the consensus restart (O(n^3) projections on a track holding an outlier) were
+// half of such a pass. The support test keeps a start that a large step moved into another
+// basin from deciding the point: the full search then runs as without a start.
+TriangulatedPoint TriangulateTrackFrom(const std::vector<TrackView>& views, const PointStart& start,
+                                       const TriangulationOptions& options = {});
 
 // Largest angle (degrees) between the viewing rays from the centres to X.
 double MaxTriangulationAngleDeg(const std::vector<TrackView>& views, const Eigen::Vector3d& X);

@@ -11,6 +11,7 @@
 
 #include "pgba/geometry/pose.h"
 #include "pgba/geometry/sim3.h"
+#include "pgba/geometry/triangulation.h"
 
 namespace pgba {
 
@@ -48,6 +49,10 @@ struct LocalMotion {
   std::vector<Pose> local_poses;  // world(local)->camera, same order as image_ids
   std::vector<uint64_t> track_ids;
   Sim3 global_to_local;
+  // Optional start of the triangulation of each track (aligned with track_ids, in the local
+  // frame; empty or a non-finite entry: none): the points of the motion's previous local
+  // Hessian, carried into the next re-linearisation (TriangulateTrackFrom).
+  std::vector<PointStart> track_points;
 
   LocalMotion() = default;
   // A triplet is the motion of its three views (implicit: wherever a motion is expected).
