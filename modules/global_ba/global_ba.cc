@@ -180,13 +180,13 @@ GlobalBAResult internal::RunGlobalBA(const std::map<uint32_t, Pose>& initial_pos
   GlobalBAResult result;
   GlobalBASummary& summary = result.summary;
   summary.num_poses = static_cast<int>(u.poses.size());
-  summary.num_triplets = static_cast<int>(u.terms.size());
-  summary.num_params = 6 * summary.num_poses + 7 * summary.num_triplets;
+  summary.num_motions = static_cast<int>(u.terms.size());
+  summary.num_params = 6 * summary.num_poses + 7 * summary.num_motions;
   for (const auto& [id, block] : u.intrinsics) summary.num_params += static_cast<int>(block.x.size());
   Eigen::MatrixXd intrinsics_inverse_hessian;
   std::map<uint32_t, Eigen::VectorXd> initial_intrinsics;
   for (const auto& [id, block] : u.intrinsics) initial_intrinsics[id] = block.x;
-  summary.num_triplets_excluded = sel.num_excluded;
+  summary.num_motions_excluded = sel.num_excluded;
   summary.excluded_images = sel.excluded_images;
   summary.num_gcp_residuals = static_cast<int>(u.gcp_terms.size());
   summary.gcp_gauge = u.gcp_gauge;
@@ -225,13 +225,13 @@ GlobalBAResult internal::RunGlobalBA(const std::map<uint32_t, Pose>& initial_pos
   for (const MotionTerm& t : u.terms) {
     result.similarities[t.hessian->motion_index] = t.sim.ToSim3();
     result.irls_weights[t.hessian->motion_index] = t.irls_weight;
-    summary.num_triplets_downweighted += t.irls_weight < 0.5;
+    summary.num_motions_downweighted += t.irls_weight < 0.5;
   }
   summary.seconds = timer.Seconds();
   PGBA_LOG_INFO << "global BA (" << (options.weighting == TripletWeighting::kHessian ? "pointless" : "averaging")
-                << "): " << summary.num_poses << " poses, " << summary.num_triplets << " motions, "
+                << "): " << summary.num_poses << " poses, " << summary.num_motions << " motions, "
                 << summary.iterations << " iterations in " << summary.rounds << " rounds, " << summary.seconds
-                << " s, fitting scale " << summary.robust_scale << ", " << summary.num_triplets_downweighted
+                << " s, fitting scale " << summary.robust_scale << ", " << summary.num_motions_downweighted
                 << " motions down-weighted"
                 << (std::isfinite(summary.misfit_ratio) ? ", misfit " + std::to_string(summary.misfit_ratio) : "");
   return result;

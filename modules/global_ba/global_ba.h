@@ -220,17 +220,17 @@ struct GlobalBASummary {
   double initial_cost = 0.0;
   double final_cost = 0.0;
   double seconds = 0.0;
-  // Unknowns: 6 per pose + 7 per triplet + the intrinsic unknowns.
+  // Unknowns: 6 per pose + 7 per motion + the intrinsic unknowns.
   int num_params = 0;
   int num_poses = 0;
-  int num_triplets = 0;  // used
-  // Triplets not used: hessian not ok, an image without initial pose, or outside the largest
-  // rigidly connected component (triplets sharing two images).
-  int num_triplets_excluded = 0;
-  // Initial poses of images in no used triplet (their pose is not refined or returned).
+  int num_motions = 0;  // used (report key "triplets_used")
+  // Motions not used: hessian not ok, an image without initial pose, or outside the largest
+  // rigidly connected component (motions sharing two images).
+  int num_motions_excluded = 0;
+  // Initial poses of images in no used motion (their pose is not refined or returned).
   std::vector<uint32_t> excluded_images;
-  // Triplets whose final IRLS weight is below 0.5 (treated as outliers).
-  int num_triplets_downweighted = 0;
+  // Motions whose final IRLS weight is below 0.5 (treated as outliers).
+  int num_motions_downweighted = 0;
   double robust_scale = 0.0;  // final sigma of the fitting errors (px-like units)
   // With GCPs: residuals added (one per triplet and GCP seen in >= 2 of its images), and
   // whether they fix the gauge (>= 3 non-collinear GCPs; no pose or similarity held then).

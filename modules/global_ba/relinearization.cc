@@ -238,7 +238,7 @@ GlobalBAResult CheckedRelinearization(const Reconstruction& tracks, const LocalH
                      "are kept";
   total.final_cost = kept.summary.final_cost;
   total.robust_scale = kept.summary.robust_scale;
-  total.num_triplets_downweighted = kept.summary.num_triplets_downweighted;
+  total.num_motions_downweighted = kept.summary.num_motions_downweighted;
   total.misfit_ratio = kept.summary.misfit_ratio;
   total.seconds = timer.Seconds();
   kept.summary = total;
@@ -332,7 +332,7 @@ GlobalBAResult RelinearizedGlobalBA(const Reconstruction& tracks, const LocalHes
       const GlobalBASummary& s = result.summary;
       total.final_cost = s.final_cost;
       total.robust_scale = s.robust_scale;
-      total.num_triplets_downweighted = s.num_triplets_downweighted;
+      total.num_motions_downweighted = s.num_motions_downweighted;
       total.misfit_ratio = s.misfit_ratio;
       total.relinearizations = k;
       total.relinearization_displacement = Displacement(result, models.hessians(), relinearized, pointless);

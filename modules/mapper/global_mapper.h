@@ -14,7 +14,7 @@
 #include "pgba/scene/reconstruction.h"
 #include "pgba/scene/view_graph.h"
 #include "triplets/triplet_options.h"
-#include "triplets/view_graph.h"
+#include "triplets/pair_estimation.h"
 
 namespace pgba {
 

@@ -141,9 +141,9 @@ RefinementResult RefinementOfGlobalBA(const Reconstruction& tracks, const Prepar
   r.iterations = g.summary.iterations;
   r.details = {{"motion_kind", options.local_motions.kind},
                {"motions", hessians.motions.size()},
-               {"triplets_used", g.summary.num_triplets},
-               {"triplets_excluded", g.summary.num_triplets_excluded},
-               {"triplets_downweighted", g.summary.num_triplets_downweighted},
+               {"triplets_used", g.summary.num_motions},
+               {"triplets_excluded", g.summary.num_motions_excluded},
+               {"triplets_downweighted", g.summary.num_motions_downweighted},
                {"rounds", g.summary.rounds},
                {"fitting_scale", g.summary.robust_scale},
                {"local_hessians", LocalHessianStatusCounts(hessians.result)}};

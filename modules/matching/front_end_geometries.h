@@ -1,5 +1,5 @@
 // The image front end's verified two-view geometries as the view graph consumes them
-// (triplets/view_graph.h, PairOptions::front_end): written by the matching stage to
+// (triplets/pair_estimation.h, PairOptions::front_end): written by the matching stage to
 // WS/matching/two_view_geometries.txt (io/two_view_geometries.h) beside WS/tracks/, read
 // back when `pgba run` reuses cached tracks, and checked against those tracks so that a
 // stale or edited file fails with its name instead of feeding poses of other images.

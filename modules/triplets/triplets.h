@@ -1,4 +1,4 @@
-// Entry of the triplet stage: from the tracks and the verified pairs (view_graph.h) to
+// Entry of the triplet stage: from the tracks and the verified pairs (pair_estimation.h) to
 // triplets with local poses of one consistent scale, refined by a triplet BA.
 //
 //   candidates  = triangles of the view graph whose pair rotations close (rotation cycle)

@@ -12,7 +12,7 @@
 
 #include "modules/calibration/view_graph_calibration.h"
 #include "modules/synthetic/synthetic_scene.h"
-#include "modules/triplets/view_graph.h"
+#include "modules/triplets/pair_estimation.h"
 
 namespace pgba {
 namespace {

@@ -171,10 +171,10 @@ TEST(GlobalBA, RobustToCorruptedTriplets) {
   const double sigma_clean = SigmaPx(s.rec, clean.poses);
   const double sigma = SigmaPx(s.rec, r.poses);
   std::printf("%zu corrupted triplets: sigma %.4f vs clean %.4f, %d down-weighted\n", bad.size(), sigma, sigma_clean,
-              r.summary.num_triplets_downweighted);
+              r.summary.num_motions_downweighted);
   EXPECT_LE(sigma, 1.02 * sigma_clean);
   for (int i : bad) EXPECT_LT(r.irls_weights[i], 0.1) << "triplet " << i;
-  EXPECT_GE(r.summary.num_triplets_downweighted, static_cast<int>(bad.size()));
+  EXPECT_GE(r.summary.num_motions_downweighted, static_cast<int>(bad.size()));
 }
 
 TEST(GlobalBA, ExcludesUnusableTripletsAndImagesAndRejectsMismatches) {
@@ -186,7 +186,7 @@ TEST(GlobalBA, ExcludesUnusableTripletsAndImagesAndRejectsMismatches) {
   std::map<uint32_t, Pose> initial = s.initial;
   initial[1000] = Pose();
   const GlobalBAResult r = PointlessGlobalBA(initial, MotionsOfTriplets(triplets), hessians, GlobalBAOptions());
-  EXPECT_EQ(r.summary.num_triplets_excluded, 1);
+  EXPECT_EQ(r.summary.num_motions_excluded, 1);
   EXPECT_EQ(r.summary.excluded_images, std::vector<uint32_t>{1000});
   EXPECT_EQ(r.poses.count(1000), 0u);
   EXPECT_EQ(r.irls_weights[3], 0.0);
@@ -221,7 +221,7 @@ TEST(GlobalBA, KeepsLargestRigidComponent) {
   const std::map<uint32_t, Pose> gt = PosesOf(rec);
   const GlobalBAResult r = PointlessGlobalBA(gt, MotionsOfTriplets(triplets), lh.hessians, GlobalBAOptions());
   EXPECT_EQ(r.poses.size(), 12u);
-  EXPECT_EQ(r.summary.num_triplets_excluded, 3);
+  EXPECT_EQ(r.summary.num_motions_excluded, 3);
   EXPECT_EQ(r.summary.excluded_images.size(), 24u - 12u);
 }
 

@@ -11,7 +11,7 @@
 #include "pgba/geometry/rotation.h"
 #include "pgba/io/colmap_text.h"
 #include "pgba/util/timer.h"
-#include "triplets/view_graph.h"
+#include "triplets/pair_estimation.h"
 
 namespace pgba {
 namespace {

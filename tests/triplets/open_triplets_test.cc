@@ -15,7 +15,7 @@
 #include "synthetic/synthetic_scene.h"
 #include "triplets/triplet_selection.h"
 #include "triplets/triplets.h"
-#include "triplets/view_graph.h"
+#include "triplets/pair_estimation.h"
 
 namespace pgba {
 namespace {

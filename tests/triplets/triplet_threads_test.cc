@@ -16,7 +16,7 @@
 #include "pgba/io/workspace.h"
 #include "synthetic/synthetic_scene.h"
 #include "triplets/triplets.h"
-#include "triplets/view_graph.h"
+#include "triplets/pair_estimation.h"
 
 namespace pgba {
 namespace {

@@ -97,7 +97,7 @@ Table BuildTable() {
   t["matching.verification.weak_pairs.min_closed_matches"] = kNonNegative;
   t["matching.tracks.min_track_length"] = AtLeast(2);
   t["matching.max_indexed_images"] = AtLeast(2);  // both images of a pair
-  // pairs (triplets/view_graph.h)
+  // pairs (triplets/pair_estimation.h)
   t["pairs.min_shared_tracks"] = AtLeast(5);
   t["pairs.max_pairs_per_image"] = kNonNegative;  // 0 = no limit
   AddRelativePose("pairs.relative_pose", &t);

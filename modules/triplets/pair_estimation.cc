@@ -1,4 +1,4 @@
-#include "modules/triplets/view_graph.h"
+#include "modules/triplets/pair_estimation.h"
 
 #include <tbb/parallel_for.h>
 

@@ -3,7 +3,7 @@
 // the reference: the front end's poses are the truth disturbed by 0.1 deg (rotation) and
 // 1 deg (translation direction), the size of a front-end error, a disturbance the refinement must remove and the straight
 // reuse must keep.
-#include "triplets/view_graph.h"
+#include "triplets/pair_estimation.h"
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
