@@ -10,9 +10,12 @@
 namespace pgba {
 
 Eigen::Matrix3d AverageTripletRotation(const Triplet& triplet, const std::map<uint32_t, Eigen::Matrix3d>& rotations) {
-  Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
-  for (int k = 0; k < 3; ++k) sum += triplet.local_poses[k].R().transpose() * rotations.at(triplet.image_ids[k]);
-  return ClosestRotation(sum);
+  std::vector<Eigen::Matrix3d> global_R, local_R;
+  for (int k = 0; k < 3; ++k) {
+    global_R.push_back(rotations.at(triplet.image_ids[k]));
+    local_R.push_back(triplet.local_poses[k].R());
+  }
+  return MotionRotation(global_R, local_R);
 }
 
 TripletSimilarityFit EstimateTripletSimilarity(const Triplet& triplet, const std::map<uint32_t, Pose>& poses) {

@@ -86,24 +86,6 @@ RefinementResult RefinePointBased(const Reconstruction& tracks, const std::map<u
   return r;
 }
 
-// Aver_BA: the same motions and solver as the pointless BA, scalar weights (global_ba.h).
-RefinementResult RefineAveraging(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
-                                 const PreparedHessians& hessians, const RefinementOptions& options,
-                                 bool record_history) {
-  ResetPeakRss();
-  std::vector<std::map<uint32_t, Pose>> history;
-  GlobalBAIterationCallback callback;
-  if (record_history) callback = [&history](const GlobalBAIteration& it) { history.push_back(*it.poses); };
-  const std::map<uint32_t, Pose>& start = hessians.triplet_start ? hessians.linearization_poses : initial;
-  const GlobalBAResult g =
-      AveragingGlobalBA(start, hessians.motions, hessians.result.hessians, options.global_ba, callback);
-  RefinementResult r = RefinementOfGlobalBA(tracks, hessians, options, g);
-  r.history = std::move(history);
-  CheckRefinedCameras(r);
-  LogRefinement("averaging", r);
-  return r;
-}
-
 }  // namespace
 
 RefinementResult RefinePoses(RefinementMethod method, const Reconstruction& tracks,
@@ -112,9 +94,13 @@ RefinementResult RefinePoses(RefinementMethod method, const Reconstruction& trac
                              bool record_history) {
   if (method == RefinementMethod::kPointless || method == RefinementMethod::kAveraging) {
     if (!hessians) throw std::invalid_argument("RefinePoses: local hessians are required for this method");
-    return method == RefinementMethod::kPointless
-               ? RefinePointless(tracks, initial, *hessians, options, record_history)
-               : RefineAveraging(tracks, initial, *hessians, options, record_history);
+    if (method == RefinementMethod::kPointless) return RefinePointless(tracks, initial, *hessians, options, record_history);
+    // Aver_BA: the same motions and solver as the pointless BA, scalar weights (global_ba.h).
+    return RefineOnMotions("averaging", tracks, initial, *hessians, options, record_history,
+                           [&](const std::map<uint32_t, Pose>& start, const GlobalBAIterationCallback& callback) {
+                             return AveragingGlobalBA(start, hessians->motions, hessians->result.hessians,
+                                                      options.global_ba, callback);
+                           });
   }
   RefinementResult r;
   if (method == RefinementMethod::kPointBased) {

@@ -6,14 +6,6 @@
 
 namespace pgba {
 
-namespace {
-Eigen::Vector3d Centroid(const std::vector<Pose>& poses) {
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  for (const Pose& p : poses) sum += p.C();
-  return poses.empty() ? sum : Eigen::Vector3d(sum / static_cast<double>(poses.size()));
-}
-}  // namespace
-
 Eigen::Matrix3d MotionSimilarity::alpha() const { return alpha0 * ExpSO3(x.segment<3>(3)); }
 
 Sim3 MotionSimilarity::ToSim3() const {
@@ -42,7 +34,7 @@ MotionSimilarity InitializeSimilarity(const std::vector<Pose>& global_poses, con
 
 MotionSimilarity SimilarityFromSim3(const std::vector<Pose>& global_poses, const Sim3& global_to_local) {
   MotionSimilarity sim;
-  sim.G = Centroid(global_poses);
+  sim.G = MeanCentre(global_poses);
   sim.alpha0 = global_to_local.R;
   sim.x.head<3>() = global_to_local.Apply(sim.G);
   sim.x(6) = global_to_local.s;

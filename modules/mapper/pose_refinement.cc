@@ -122,6 +122,22 @@ nlohmann::json IntrinsicsRecord(uint32_t id, const Camera& camera, const std::ve
           {"final_params", camera.params}};
 }
 
+void CheckRefinedCameras(const RefinementResult& r) {
+  for (const auto& [id, camera] : r.cameras)  // a distortion estimated past invertibility, a focal <= 0
+    if (const std::string problem = camera.Validate(); !problem.empty())
+      throw InputError("self-calibration: the intrinsics estimated for camera " + std::to_string(id) +
+                       " are unusable (" + problem +
+                       "); hold them with intrinsics.cameras = \"none\" or intrinsics.refine_extra_params = false");
+}
+
+void LogRefinement(const char* method, const RefinementResult& r) {
+  PGBA_LOG_INFO << method << ": " << r.poses.size() << " poses, " << r.num_params << " unknowns, " << r.iterations
+                << " iterations, adjustment " << r.adjust_seconds << " s (preparation " << r.prepare_seconds << " s)";
+}
+
+namespace {
+
+// The parts a global BA on the motions `hessians` fills.
 RefinementResult RefinementOfGlobalBA(const Reconstruction& tracks, const PreparedHessians& hessians,
                                      const RefinementOptions& options, const GlobalBAResult& g) {
   RefinementResult r;
@@ -150,45 +166,48 @@ RefinementResult RefinementOfGlobalBA(const Reconstruction& tracks, const Prepar
   return r;
 }
 
-void CheckRefinedCameras(const RefinementResult& r) {
-  for (const auto& [id, camera] : r.cameras)  // a distortion estimated past invertibility, a focal <= 0
-    if (const std::string problem = camera.Validate(); !problem.empty())
-      throw InputError("self-calibration: the intrinsics estimated for camera " + std::to_string(id) +
-                       " are unusable (" + problem +
-                       "); hold them with intrinsics.cameras = \"none\" or intrinsics.refine_extra_params = false");
-}
+}  // namespace
 
-void LogRefinement(const char* method, const RefinementResult& r) {
-  PGBA_LOG_INFO << method << ": " << r.poses.size() << " poses, " << r.num_params << " unknowns, " << r.iterations
-                << " iterations, adjustment " << r.adjust_seconds << " s (preparation " << r.prepare_seconds << " s)";
+RefinementResult RefineOnMotions(const char* method, const Reconstruction& tracks,
+                                 const std::map<uint32_t, Pose>& initial, const PreparedHessians& hessians,
+                                 const RefinementOptions& options, bool record_history, const MotionGlobalBA& adjust) {
+  ResetPeakRss();
+  std::vector<std::map<uint32_t, Pose>> history;
+  GlobalBAIterationCallback callback;
+  if (record_history) callback = [&history](const GlobalBAIteration& it) { history.push_back(*it.poses); };
+  // Far from the triplets the motions were linearised at the triplets' pointless BA, which is
+  // where the global BA starts too.
+  const std::map<uint32_t, Pose>& start = hessians.triplet_start ? hessians.linearization_poses : initial;
+  RefinementResult r = RefinementOfGlobalBA(tracks, hessians, options, adjust(start, callback));
+  r.history = std::move(history);
+  CheckRefinedCameras(r);
+  LogRefinement(method, r);
+  return r;
 }
 
 RefinementResult RefinePointless(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
                                  const PreparedHessians& hessians, const RefinementOptions& options,
                                  bool record_history, const GcpInput* gcps) {
-  ResetPeakRss();
-  std::vector<std::map<uint32_t, Pose>> history;
-  GlobalBAIterationCallback callback;
-  if (record_history) callback = [&history](const GlobalBAIteration& it) { history.push_back(*it.poses); };
   // The local Hessians re-linearised at the solution (global_ba.h); their passes count as
-  // adjustment time. Far from the triplets, the motions were linearised at the triplets'
-  // pointless BA, which is where the global BA starts too.
+  // adjustment time.
   GlobalBAOptions pointless = options.global_ba;
   if (hessians.triplet_start) pointless.max_relinearizations = pointless.max_relinearizations_far_start;
-  const std::map<uint32_t, Pose>& start = hessians.triplet_start ? hessians.linearization_poses : initial;
-  const GlobalBAResult g = RelinearizedGlobalBA(tracks, options.local_hessian, start, hessians.motions,
+  GlobalBASummary summary;
+  RefinementResult r = RefineOnMotions(
+      "pointless", tracks, initial, hessians, options, record_history,
+      [&](const std::map<uint32_t, Pose>& start, const GlobalBAIterationCallback& callback) {
+        GlobalBAResult g = RelinearizedGlobalBA(tracks, options.local_hessian, start, hessians.motions,
                                                 hessians.result.hessians, pointless, callback, gcps);
-  RefinementResult r = RefinementOfGlobalBA(tracks, hessians, options, g);
-  r.history = std::move(history);
-  r.details["misfit_ratio_initial"] = NumberOrNull(g.summary.misfit_ratio_initial);
-  r.details["misfit_ratio"] = NumberOrNull(g.summary.misfit_ratio);
-  r.details["relinearizations"] = g.summary.relinearizations;
-  r.details["relinearization_seconds"] = g.summary.relinearization_seconds;
+        summary = g.summary;
+        return g;
+      });
+  r.details["misfit_ratio_initial"] = NumberOrNull(summary.misfit_ratio_initial);
+  r.details["misfit_ratio"] = NumberOrNull(summary.misfit_ratio);
+  r.details["relinearizations"] = summary.relinearizations;
+  r.details["relinearization_seconds"] = summary.relinearization_seconds;
   r.details["triplet_rotation_misfit"] = hessians.triplet_rotation_misfit;
   r.details["triplet_start"] = hessians.triplet_start;
-  if (gcps) r.details["gcp_residuals"] = g.summary.num_gcp_residuals;
-  CheckRefinedCameras(r);
-  LogRefinement("pointless", r);
+  if (gcps) r.details["gcp_residuals"] = summary.num_gcp_residuals;
   return r;
 }
 

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -131,10 +132,17 @@ RefinementResult RefinePointless(const Reconstruction& tracks, const std::map<ui
                                  const PreparedHessians& hessians, const RefinementOptions& options,
                                  bool record_history = false, const GcpInput* gcps = nullptr);
 
-// The parts a global BA on the motions `hessians` fills (poses, intrinsics, counts, times),
-// shared with the benchmark's Aver_BA.
-RefinementResult RefinementOfGlobalBA(const Reconstruction& tracks, const PreparedHessians& hessians,
-                                      const RefinementOptions& options, const GlobalBAResult& g);
+// A global BA on the prepared motions, from `start`, reporting its iterations to `callback`
+// (empty: none).
+using MotionGlobalBA =
+    std::function<GlobalBAResult(const std::map<uint32_t, Pose>& start, const GlobalBAIterationCallback& callback)>;
+// Runs `adjust` from where `hessians` were linearised (the triplet start's poses, or
+// `initial`), the poses of every iteration in the history with `record_history`, and fills the
+// result (poses, refined cameras, counts, times; `method` in its log line). InputError as
+// CheckRefinedCameras. The one runner of the pointless BA and the benchmark's Aver_BA.
+RefinementResult RefineOnMotions(const char* method, const Reconstruction& tracks,
+                                 const std::map<uint32_t, Pose>& initial, const PreparedHessians& hessians,
+                                 const RefinementOptions& options, bool record_history, const MotionGlobalBA& adjust);
 // Report rows of a camera's intrinsics: {camera_id, model, params: [{index, name, initial,
 // final, stddev}], final_params} (stddev null where not computed).
 nlohmann::json IntrinsicsRecord(uint32_t id, const Camera& camera, const std::vector<int>& free,

@@ -58,13 +58,17 @@ bool EstimateSim3(const std::vector<Eigen::Vector3d>& src, const std::vector<Eig
   return true;
 }
 
-namespace {
-Eigen::Vector3d Centroid(const std::vector<Pose>& poses) {
+Eigen::Vector3d MeanCentre(const std::vector<Pose>& poses) {
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   for (const Pose& p : poses) sum += p.C();
   return poses.empty() ? sum : Eigen::Vector3d(sum / static_cast<double>(poses.size()));
 }
-}  // namespace
+
+Eigen::Matrix3d MotionRotation(const std::vector<Eigen::Matrix3d>& global_R, const std::vector<Eigen::Matrix3d>& local_R) {
+  Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
+  for (size_t k = 0; k < global_R.size(); ++k) sum += local_R[k].transpose() * global_R[k];
+  return ClosestRotation(sum);
+}
 
 bool MotionSimilarityFit::scale_ok() const { return lambda > 0.0 && std::isfinite(lambda); }
 
@@ -78,11 +82,14 @@ Sim3 MotionSimilarityFit::ToSim3() const {
 
 MotionSimilarityFit FitMotionSimilarity(const std::vector<Pose>& global, const std::vector<Pose>& local) {
   MotionSimilarityFit fit;
-  Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
-  for (size_t k = 0; k < global.size(); ++k) sum += local[k].R().transpose() * global[k].R();
-  fit.alpha = ClosestRotation(sum);
-  fit.global_centroid = Centroid(global);
-  fit.local_centroid = Centroid(local);
+  std::vector<Eigen::Matrix3d> global_R, local_R;
+  for (size_t k = 0; k < global.size(); ++k) {
+    global_R.push_back(global[k].R());
+    local_R.push_back(local[k].R());
+  }
+  fit.alpha = MotionRotation(global_R, local_R);
+  fit.global_centroid = MeanCentre(global);
+  fit.local_centroid = MeanCentre(local);
   double num = 0.0, den = 0.0;
   for (size_t k = 0; k < global.size(); ++k) {
     const Eigen::Vector3d d = fit.alpha * (global[k].C() - fit.global_centroid);

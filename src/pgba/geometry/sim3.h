@@ -56,5 +56,10 @@ struct MotionSimilarityFit {
 };
 // `global` and `local`: the N views' poses in the same order (N >= 1).
 MotionSimilarityFit FitMotionSimilarity(const std::vector<Pose>& global, const std::vector<Pose>& local);
+// Its rotation alone, from the views' global and local camera rotations (same order):
+// alpha = proj_SO(3)(sum_k r_k^T R_k).
+Eigen::Matrix3d MotionRotation(const std::vector<Eigen::Matrix3d>& global_R, const std::vector<Eigen::Matrix3d>& local_R);
+// The mean of the poses' centres (zero for none).
+Eigen::Vector3d MeanCentre(const std::vector<Pose>& poses);
 
 }  // namespace pgba
