@@ -54,7 +54,7 @@ void RegisterBenchmark(CLI::App& app) {
     options.refinement = ro.refinement;
     options.convergence = !args->no_convergence;
     options.triplet_split = args->triplet_split;
-    if (args->rotation_outliers > 0) options.mapper.global_init.outliers.fraction = args->rotation_outliers;
+    if (args->rotation_outliers > 0) options.mapper.rotation_outliers.fraction = args->rotation_outliers;
     if (args->outlier_sweep)
       for (int k = 0; k <= 11; ++k) options.outlier_sweep.push_back(0.02 * k);
 

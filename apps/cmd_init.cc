@@ -43,7 +43,7 @@ void RegisterInit(CLI::App& app) {
     // The one loader of every command: a configs/ preset with sections of other stages
     // (matching, local_hessian, ...) serves init too; only the mapper's sections are used.
     GlobalMapperOptions options = LoadRunOptions(args->config).reconstruction.mapper;
-    if (args->rotation_outliers > 0) options.global_init.outliers.fraction = args->rotation_outliers;
+    if (args->rotation_outliers > 0) options.rotation_outliers.fraction = args->rotation_outliers;
     if (args->tracks.empty() == args->database.empty())
       ThrowInputError("--tracks", 0, "give one of --tracks MODEL_DIR or --database DB.db");
     const Reconstruction tracks = args->database.empty()

@@ -60,11 +60,11 @@ std::set<uint32_t> LargestViewGraphComponent(const std::vector<TwoViewGeometry>&
   return component;
 }
 
-bool HasDistinctImages(const Triplet& t) {
+bool HasDistinctImages(const LocalMotion& t) {
   return t.image_ids[0] != t.image_ids[1] && t.image_ids[0] != t.image_ids[2] && t.image_ids[1] != t.image_ids[2];
 }
 
-std::vector<int> LargestTripletComponent(const std::vector<Triplet>& triplets) {
+std::vector<int> LargestTripletComponent(const std::vector<LocalMotion>& triplets) {
   const int n = static_cast<int>(triplets.size());
   UnionFind uf(n);
   std::map<std::pair<uint32_t, uint32_t>, int> first_with_edge;
@@ -105,7 +105,7 @@ std::vector<int> LargestTripletComponent(const std::vector<Triplet>& triplets) {
   return kept;
 }
 
-std::set<uint32_t> ImagesOfTriplets(const std::vector<Triplet>& triplets, const std::vector<int>& indices) {
+std::set<uint32_t> ImagesOfTriplets(const std::vector<LocalMotion>& triplets, const std::vector<int>& indices) {
   std::set<uint32_t> images;
   for (int t : indices) images.insert(triplets[t].image_ids.begin(), triplets[t].image_ids.end());
   return images;

@@ -48,12 +48,12 @@ std::set<uint32_t> LargestViewGraphComponent(const std::vector<TwoViewGeometry>&
 // edge adjacency (see above), largest = covering the most images; ties: the component with
 // the most triplets, then the smallest triplet index. Triplets with repeated images are
 // ignored. Empty if there is no valid triplet.
-std::vector<int> LargestTripletComponent(const std::vector<Triplet>& triplets);
+std::vector<int> LargestTripletComponent(const std::vector<LocalMotion>& triplets);
 
 // Images covered by the given triplets.
-std::set<uint32_t> ImagesOfTriplets(const std::vector<Triplet>& triplets, const std::vector<int>& indices);
+std::set<uint32_t> ImagesOfTriplets(const std::vector<LocalMotion>& triplets, const std::vector<int>& indices);
 
 // True if the triplet's three image ids are pairwise distinct.
-bool HasDistinctImages(const Triplet& triplet);
+bool HasDistinctImages(const LocalMotion& triplet);
 
 }  // namespace pgba

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <set>
+#include <stdexcept>
 
 #include "averaging/connectivity.h"
 #include "averaging/relative_rotations.h"
@@ -14,15 +15,15 @@
 namespace pgba {
 namespace {
 
-std::vector<Triplet> Select(const std::vector<Triplet>& triplets, const std::vector<int>& indices) {
-  std::vector<Triplet> out;
+std::vector<LocalMotion> Select(const std::vector<LocalMotion>& triplets, const std::vector<int>& indices) {
+  std::vector<LocalMotion> out;
   out.reserve(indices.size());
   for (int t : indices) out.push_back(triplets[t]);
   return out;
 }
 
 // Keeps the triplets of the largest component; returns how many were removed.
-int KeepLargestComponent(std::vector<Triplet>* triplets) {
+int KeepLargestComponent(std::vector<LocalMotion>* triplets) {
   const std::vector<int> kept = LargestTripletComponent(*triplets);
   const int removed = static_cast<int>(triplets->size() - kept.size());
   *triplets = Select(*triplets, kept);
@@ -37,7 +38,7 @@ std::vector<TwoViewGeometry> PairsWithin(const std::vector<TwoViewGeometry>& pai
 }
 
 void CheckImageIds(const Reconstruction& tracks, const std::vector<TwoViewGeometry>& pairs,
-                   const std::vector<Triplet>& triplets) {
+                   const std::vector<LocalMotion>& triplets) {
   auto check = [&](uint32_t id, const std::string& what) {
     if (!tracks.images.count(id))
       throw InputError(what + " references image id " + std::to_string(id) + ", which is not in the tracks");
@@ -57,7 +58,7 @@ bool IsUsable(const TwoViewGeometry& p) {
 }
 
 // Distinct images, finite local poses and a non-zero baseline.
-bool IsUsable(const Triplet& t) {
+bool IsUsable(const LocalMotion& t) {
   if (!HasDistinctImages(t)) return false;
   double baseline = 0.0, magnitude = 0.0;
   for (int k = 0; k < 3; ++k) {
@@ -71,7 +72,8 @@ bool IsUsable(const Triplet& t) {
 }  // namespace
 
 GlobalInitResult RunGlobalInitialisation(const Reconstruction& tracks, const std::vector<TwoViewGeometry>& pairs_in,
-                                         const std::vector<Triplet>& triplets_in, const GlobalInitOptions& options) {
+                                         const std::vector<LocalMotion>& triplets_in, const GlobalInitOptions& options,
+                                         const std::vector<LocalMotion>* rotation_measurements) {
   ValidateRotationAveragingOptions(options.rotation);
   ValidateTranslationAveragingOptions(options.translation);
   ValidateTrackPositioningOptions(options.track_positioning);
@@ -86,36 +88,31 @@ GlobalInitResult RunGlobalInitialisation(const Reconstruction& tracks, const std
   std::vector<TwoViewGeometry> pairs;
   for (const TwoViewGeometry& p : pairs_in)
     if (IsUsable(p)) pairs.push_back(p);
-  std::vector<Triplet> triplets;
-  for (const Triplet& t : triplets_in)
+  std::vector<LocalMotion> triplets;
+  for (const LocalMotion& t : triplets_in)
     if (IsUsable(t)) triplets.push_back(t);
   stats.pairs_invalid = static_cast<int>(pairs_in.size() - pairs.size());
   stats.triplets_invalid = static_cast<int>(triplets_in.size() - triplets.size());
   if (stats.pairs_invalid || stats.triplets_invalid)
     PGBA_LOG_WARN << "ignoring " << stats.pairs_invalid << " invalid pairs and " << stats.triplets_invalid
                   << " invalid triplets (repeated images, non-finite values or no baseline)";
-  // Local poses of the triplets whose relative rotations were corrupted as measurements only
-  // (outlier_injection.h), by image ids.
-  std::map<std::array<uint32_t, 3>, std::array<Pose, 3>> measured_poses;
-  if (options.outliers.fraction > 0.0) {
-    const bool local = options.outliers.triplet_corruption == TripletCorruption::kLocalPoses;
-    std::vector<Triplet> corrupted;
-    if (!local) corrupted = triplets;
-    const OutlierInjectionResult injected =
-        InjectRotationOutliers(options.outliers, &pairs, local ? &triplets : &corrupted);
-    if (!local)
-      for (int t : injected.triplets) measured_poses[corrupted[t].image_ids] = corrupted[t].local_poses;
-    stats.pairs_corrupted = static_cast<int>(injected.pairs.size());
-    stats.triplets_corrupted = static_cast<int>(injected.triplets.size());
-    PGBA_LOG_INFO << "outlier injection: " << stats.pairs_corrupted << " pairs and " << stats.triplets_corrupted
-                  << (local ? " triplets (local poses)" : " triplets (their relative rotations)")
-                  << " given random rotations";
+  // 1. The local poses whose relative rotations the averaging measures, by image ids (empty:
+  // the triplets' own).
+  std::map<std::vector<uint32_t>, std::vector<Pose>> measured_poses;
+  if (rotation_measurements) {
+    if (rotation_measurements->size() != triplets_in.size())
+      throw std::invalid_argument("RunGlobalInitialisation: rotation measurements not aligned with the triplets");
+    for (size_t k = 0; k < triplets_in.size(); ++k) {
+      if ((*rotation_measurements)[k].image_ids != triplets_in[k].image_ids)
+        throw std::invalid_argument("RunGlobalInitialisation: rotation measurements not aligned with the triplets");
+      measured_poses[triplets_in[k].image_ids] = (*rotation_measurements)[k].local_poses;
+    }
   }
   // The triplets as rotation measurements: with the corrupted relative rotations in place.
-  auto as_measured = [&](const std::vector<Triplet>& in) {
+  auto as_measured = [&](const std::vector<LocalMotion>& in) {
     if (measured_poses.empty()) return in;
-    std::vector<Triplet> out = in;
-    for (Triplet& t : out) {
+    std::vector<LocalMotion> out = in;
+    for (LocalMotion& t : out) {
       auto it = measured_poses.find(t.image_ids);
       if (it != measured_poses.end()) t.local_poses = it->second;
     }
@@ -156,7 +153,7 @@ GlobalInitResult RunGlobalInitialisation(const Reconstruction& tracks, const std
     triplets_only.observations.use_pairs = false;
     triplets_only.observations.use_triplets = true;
     std::map<uint32_t, Eigen::Matrix3d> from_triplets;
-    const std::vector<Triplet> measured = as_measured(triplets);
+    const std::vector<LocalMotion> measured = as_measured(triplets);
     const bool ok = AverageRotations(CollectRelativeRotations({}, measured, triplets_only.observations),
                                      triplets_only, &from_triplets);
     pairs = PairsConsistentWithTriplets(pairs, measured, options.pair_validation, ok ? &from_triplets : nullptr,
@@ -279,7 +276,6 @@ nlohmann::json GlobalInitReport(const GlobalInitResult& result) {
                            {"outside_component", s.triplets_outside_component},
                            {"rotation_outlier", s.triplets_rotation_outliers},
                            {"centre_outlier", s.triplets_centre_outliers}};
-  j["outliers_injected"] = {{"pairs", s.pairs_corrupted}, {"triplets", s.triplets_corrupted}};
   j["rotation"] = {{"observations", s.rotation.num_observations},
                    {"seconds", s.rotation.seconds},
                    {"inliers", s.rotation.num_inliers},

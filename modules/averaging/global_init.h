@@ -4,8 +4,9 @@
 //
 //   0. unusable pairs and triplets (repeated images, non-finite values, no baseline) are
 //      ignored and counted;
-//   1. optional outlier injection (sensitivity experiment, outlier_injection.h: by default the
-//      triplets' relative rotations are corrupted as measurements, their local poses kept);
+//   1. the triplets' relative rotations as measured: by default their local poses; the
+//      sensitivity experiment (outlier_injection.h) hands in corrupted ones and keeps the
+//      local poses;
 //   2. keep the largest component of the triplet graph (triplets sharing an image pair);
 //      images outside it are dropped and named;
 //   3. pairs disagreeing with the triplets that contain them are dropped (pair_validation.h),
@@ -26,7 +27,6 @@
 #include <string>
 #include <vector>
 
-#include "averaging/outlier_injection.h"
 #include "averaging/pair_validation.h"
 #include "averaging/rotation_averaging.h"
 #include "averaging/track_positioning.h"
@@ -49,10 +49,9 @@ struct GlobalInitOptions {
   // A triplet is dropped at the end if its centres misfit its similarity by more than this
   // fraction of its local size (RMS); <= 0 keeps every triplet.
   double max_triplet_centre_error = 0.1;
-  OutlierInjectionOptions outliers;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(GlobalInitOptions, pair_validation, rotation, translation,
-                                                track_positioning, max_triplet_rotation_error_deg, max_triplet_centre_error, outliers)
+                                                track_positioning, max_triplet_rotation_error_deg, max_triplet_centre_error)
 
 struct GlobalInitStats {
   int images_input = 0;
@@ -70,8 +69,6 @@ struct GlobalInitStats {
   int triplets_outside_component = 0;
   int triplets_rotation_outliers = 0;
   int triplets_centre_outliers = 0;
-  int pairs_corrupted = 0;
-  int triplets_corrupted = 0;
   RotationAveragingSummary rotation;
   TranslationAveragingSummary translation;
   TrackPositioningSummary track_positioning;
@@ -86,8 +83,8 @@ struct GlobalInitResult {
   std::string message;
   // Global world->camera poses of the registered images.
   std::map<uint32_t, Pose> poses;
-  // The kept triplets (input order), Triplet::global_to_local filled (paper eq. 4).
-  std::vector<Triplet> triplets;
+  // The kept triplets (input order), LocalMotion::global_to_local filled (paper eq. 4).
+  std::vector<LocalMotion> triplets;
   // Images of `tracks` without a pose, by id and by name (same order).
   std::vector<uint32_t> dropped_image_ids;
   std::vector<std::string> images_dropped;
@@ -97,9 +94,12 @@ struct GlobalInitResult {
 // Throws InputError for invalid options, or if a pair or triplet names an image id that is
 // not in `tracks`. Never throws for a graph that falls apart: the result then covers the
 // largest component (success = false and every image dropped if there is no usable
-// triplet).
+// triplet). `rotation_measurements` (nullptr: the triplets themselves): the triplets with the
+// local rotations the averaging measures, aligned with `triplets` (the sensitivity
+// experiment's corrupted copies, CorruptRelativeMotions); std::invalid_argument if not aligned.
 GlobalInitResult RunGlobalInitialisation(const Reconstruction& tracks, const std::vector<TwoViewGeometry>& pairs,
-                                         const std::vector<Triplet>& triplets, const GlobalInitOptions& options);
+                                         const std::vector<LocalMotion>& triplets, const GlobalInitOptions& options,
+                                         const std::vector<LocalMotion>* rotation_measurements = nullptr);
 
 // The stage's entry of report.json: {"seconds", "images_registered", "images_dropped": [names],
 // "triplets_kept", "triplets_dropped": {reason: count}, "rotation": {...}, "translation": {...}}.

@@ -60,7 +60,7 @@ void from_json(const nlohmann::json& j, TripletCorruption& mode) {
 }
 
 OutlierInjectionResult InjectRotationOutliers(const OutlierInjectionOptions& options,
-                                              std::vector<TwoViewGeometry>* pairs, std::vector<Triplet>* triplets) {
+                                              std::vector<TwoViewGeometry>* pairs, std::vector<LocalMotion>* triplets) {
   if (!(options.fraction >= 0.0 && options.fraction <= 1.0))
     throw InputError("outlier fraction must be in [0, 1], got " + std::to_string(options.fraction));
   OutlierInjectionResult result;
@@ -78,6 +78,16 @@ OutlierInjectionResult InjectRotationOutliers(const OutlierInjectionOptions& opt
     }
   }
   return result;
+}
+
+CorruptedRelativeMotions CorruptRelativeMotions(const OutlierInjectionOptions& options,
+                                                const std::vector<TwoViewGeometry>& pairs,
+                                                const std::vector<LocalMotion>& triplets) {
+  CorruptedRelativeMotions out{pairs, triplets, triplets, {}};
+  const bool local = options.triplet_corruption == TripletCorruption::kLocalPoses;
+  out.injected = InjectRotationOutliers(options, &out.pairs, local ? &out.triplets : &out.rotation_measurements);
+  if (local) out.rotation_measurements = out.triplets;
+  return out;
 }
 
 }  // namespace pgba

@@ -41,8 +41,8 @@ struct OutlierInjectionOptions {
   // rotations; "both": the fraction of each, independently.
   OutlierTarget target = OutlierTarget::kBoth;
   // "relative_rotations" or "local_poses" (see above). InjectRotationOutliers itself always
-  // corrupts the triplets it is given; RunGlobalInitialisation hands it a copy that serves
-  // as the rotation measurements only in the relative_rotations case.
+  // corrupts the triplets it is given; CorruptRelativeMotions corrupts a copy that serves as
+  // the rotation measurements only in the relative_rotations case.
   TripletCorruption triplet_corruption = TripletCorruption::kRelativeRotations;
   uint64_t seed = 1;
 };
@@ -60,6 +60,19 @@ struct OutlierInjectionResult {
 // Corrupts exactly round(fraction * count) randomly chosen pairs and/or triplets in place,
 // deterministically for a given seed. Throws InputError if fraction is outside [0, 1].
 OutlierInjectionResult InjectRotationOutliers(const OutlierInjectionOptions& options,
-                                              std::vector<TwoViewGeometry>* pairs, std::vector<Triplet>* triplets);
+                                              std::vector<TwoViewGeometry>* pairs, std::vector<LocalMotion>* triplets);
+
+// The experiment's input to RunGlobalInitialisation (global_init.h): the pairs with their
+// corrupted R_21, the triplets (their local poses corrupted only with kLocalPoses) and the
+// triplets as the rotation averaging measures them (corrupted in both experiments).
+struct CorruptedRelativeMotions {
+  std::vector<TwoViewGeometry> pairs;
+  std::vector<LocalMotion> triplets;
+  std::vector<LocalMotion> rotation_measurements;  // aligned with triplets
+  OutlierInjectionResult injected;
+};
+CorruptedRelativeMotions CorruptRelativeMotions(const OutlierInjectionOptions& options,
+                                                const std::vector<TwoViewGeometry>& pairs,
+                                                const std::vector<LocalMotion>& triplets);
 
 }  // namespace pgba

@@ -29,7 +29,7 @@ double ResidualUnderRotationsDeg(const TwoViewGeometry& p, const std::map<uint32
 }  // namespace
 
 std::vector<TwoViewGeometry> PairsConsistentWithTriplets(const std::vector<TwoViewGeometry>& pairs,
-                                                         const std::vector<Triplet>& triplets,
+                                                         const std::vector<LocalMotion>& triplets,
                                                          const PairValidationOptions& options,
                                                          const std::map<uint32_t, Eigen::Matrix3d>* rotations,
                                                          int* num_rejected) {
@@ -37,7 +37,7 @@ std::vector<TwoViewGeometry> PairsConsistentWithTriplets(const std::vector<TwoVi
   if (!options.enabled) return pairs;
   // The triplets' relative motions, keyed by the ordered image pair (id1 < id2) they imply.
   std::map<std::pair<uint32_t, uint32_t>, std::vector<std::pair<Eigen::Matrix3d, Eigen::Vector3d>>> implied;
-  for (const Triplet& t : triplets)
+  for (const LocalMotion& t : triplets)
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b) {
         if (a == b || t.image_ids[a] >= t.image_ids[b]) continue;

@@ -44,7 +44,7 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(PairValidationOptions, enabled, 
 // `rotations` is given, with the rotations averaged from the triplets alone (its rotation
 // residual), and kept otherwise. `num_rejected` (optional) receives the number dropped.
 std::vector<TwoViewGeometry> PairsConsistentWithTriplets(const std::vector<TwoViewGeometry>& pairs,
-                                                         const std::vector<Triplet>& triplets,
+                                                         const std::vector<LocalMotion>& triplets,
                                                          const PairValidationOptions& options,
                                                          const std::map<uint32_t, Eigen::Matrix3d>* rotations = nullptr,
                                                          int* num_rejected = nullptr);

@@ -5,7 +5,7 @@
 namespace pgba {
 
 std::vector<RelativeRotation> CollectRelativeRotations(const std::vector<TwoViewGeometry>& pairs,
-                                                       const std::vector<Triplet>& triplets,
+                                                       const std::vector<LocalMotion>& triplets,
                                                        const RelativeRotationOptions& options) {
   std::vector<RelativeRotation> out;
   if (options.use_pairs) {
@@ -24,7 +24,7 @@ std::vector<RelativeRotation> CollectRelativeRotations(const std::vector<TwoView
   }
   if (options.use_triplets) {
     for (size_t k = 0; k < triplets.size(); ++k) {
-      const Triplet& t = triplets[k];
+      const LocalMotion& t = triplets[k];
       if (!HasDistinctImages(t)) continue;
       for (int a = 0; a < 3; ++a)
         for (int b = a + 1; b < 3; ++b) {

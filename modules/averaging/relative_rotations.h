@@ -46,7 +46,7 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(RelativeRotationOptions, use_pai
 // Relative rotations from the pairs then the triplets (input order; pairs or triplets with
 // repeated images are skipped). Sources: pair p is p, triplet t is pairs.size() + t.
 std::vector<RelativeRotation> CollectRelativeRotations(const std::vector<TwoViewGeometry>& pairs,
-                                                       const std::vector<Triplet>& triplets,
+                                                       const std::vector<LocalMotion>& triplets,
                                                        const RelativeRotationOptions& options);
 
 }  // namespace pgba

@@ -9,7 +9,7 @@
 
 namespace pgba {
 
-Eigen::Matrix3d AverageTripletRotation(const Triplet& triplet, const std::map<uint32_t, Eigen::Matrix3d>& rotations) {
+Eigen::Matrix3d AverageTripletRotation(const LocalMotion& triplet, const std::map<uint32_t, Eigen::Matrix3d>& rotations) {
   std::vector<Eigen::Matrix3d> global_R, local_R;
   for (int k = 0; k < 3; ++k) {
     global_R.push_back(rotations.at(triplet.image_ids[k]));
@@ -18,7 +18,7 @@ Eigen::Matrix3d AverageTripletRotation(const Triplet& triplet, const std::map<ui
   return MotionRotation(global_R, local_R);
 }
 
-TripletSimilarityFit EstimateTripletSimilarity(const Triplet& triplet, const std::map<uint32_t, Pose>& poses) {
+TripletSimilarityFit EstimateTripletSimilarity(const LocalMotion& triplet, const std::map<uint32_t, Pose>& poses) {
   TripletSimilarityFit fit;
   std::vector<Pose> global(3), local(triplet.local_poses.begin(), triplet.local_poses.end());
   for (int k = 0; k < 3; ++k) global[k] = poses.at(triplet.image_ids[k]);
@@ -38,7 +38,7 @@ TripletSimilarityFit EstimateTripletSimilarity(const Triplet& triplet, const std
 }
 
 std::vector<TripletSimilarityFit> ComputeTripletSimilarities(const std::map<uint32_t, Pose>& poses,
-                                                             std::vector<Triplet>* triplets) {
+                                                             std::vector<LocalMotion>* triplets) {
   std::vector<TripletSimilarityFit> fits(triplets->size());
   tbb::parallel_for(size_t(0), triplets->size(), [&](size_t t) {
     fits[t] = EstimateTripletSimilarity((*triplets)[t], poses);

@@ -16,7 +16,7 @@
 namespace pgba {
 
 // alpha = proj_SO(3)( sum_k r_k^T R_k ), R_k from `rotations` (all three must be present).
-Eigen::Matrix3d AverageTripletRotation(const Triplet& triplet, const std::map<uint32_t, Eigen::Matrix3d>& rotations);
+Eigen::Matrix3d AverageTripletRotation(const LocalMotion& triplet, const std::map<uint32_t, Eigen::Matrix3d>& rotations);
 
 struct TripletSimilarityFit {
   bool valid = false;  // false: coincident global centres or a non-positive scale
@@ -29,11 +29,11 @@ struct TripletSimilarityFit {
 };
 
 // Fits the similarity of one triplet to the global poses of its views (all three present).
-TripletSimilarityFit EstimateTripletSimilarity(const Triplet& triplet, const std::map<uint32_t, Pose>& poses);
+TripletSimilarityFit EstimateTripletSimilarity(const LocalMotion& triplet, const std::map<uint32_t, Pose>& poses);
 
 // Fits every triplet in parallel and stores each valid similarity in
-// Triplet::global_to_local. Returns the fits in the order of `triplets`.
+// LocalMotion::global_to_local. Returns the fits in the order of `triplets`.
 std::vector<TripletSimilarityFit> ComputeTripletSimilarities(const std::map<uint32_t, Pose>& poses,
-                                                             std::vector<Triplet>* triplets);
+                                                             std::vector<LocalMotion>* triplets);
 
 }  // namespace pgba

@@ -52,7 +52,7 @@ void ValidateTrackPositioningOptions(const TrackPositioningOptions& o) {
   if (o.max_iterations < 0 || o.num_threads < 0) bad("max_iterations and num_threads must be >= 0");
 }
 
-bool PositionOnTracks(const Reconstruction& tracks, const std::vector<Triplet>& triplets,
+bool PositionOnTracks(const Reconstruction& tracks, const std::vector<LocalMotion>& triplets,
                       const TrackPositioningOptions& options, std::map<uint32_t, Pose>* poses,
                       TrackPositioningSummary* summary_out) {
   ValidateTrackPositioningOptions(options);
@@ -158,7 +158,7 @@ bool PositionOnTracks(const Reconstruction& tracks, const std::vector<Triplet>& 
 
   // Centroid 0 and median lambda_t = 1, as translation averaging leaves them.
   std::vector<double> lambdas;
-  for (const Triplet& t : triplets) {
+  for (const LocalMotion& t : triplets) {
     if (!C.count(t.image_ids[0]) || !C.count(t.image_ids[1]) || !C.count(t.image_ids[2])) continue;
     const double global = Spread(C.at(t.image_ids[0]), C.at(t.image_ids[1]), C.at(t.image_ids[2]));
     const double local = Spread(t.local_poses[0].C(), t.local_poses[1].C(), t.local_poses[2].C());

@@ -73,7 +73,7 @@ void ValidateTrackPositioningOptions(const TrackPositioningOptions& options);
 // `triplets` (their local poses) give the final scale normalisation. Leaves `poses`
 // untouched and returns false (summary->message set) when there is nothing to refine (no
 // track seen by two posed images), when the solve fails or when the result is not finite.
-bool PositionOnTracks(const Reconstruction& tracks, const std::vector<Triplet>& triplets,
+bool PositionOnTracks(const Reconstruction& tracks, const std::vector<LocalMotion>& triplets,
                       const TrackPositioningOptions& options, std::map<uint32_t, Pose>* poses,
                       TrackPositioningSummary* summary = nullptr);
 

@@ -107,7 +107,7 @@ void ValidateTranslationAveragingOptions(const TranslationAveragingOptions& o) {
   if (!(o.pair_weight >= 0) || !(o.triplet_weight > 0)) bad("weights must be positive");
 }
 
-bool AverageTranslations(const std::vector<Triplet>& triplets, const std::vector<TwoViewGeometry>& pairs,
+bool AverageTranslations(const std::vector<LocalMotion>& triplets, const std::vector<TwoViewGeometry>& pairs,
                          const std::map<uint32_t, Eigen::Matrix3d>& rotations,
                          const TranslationAveragingOptions& options, std::map<uint32_t, Eigen::Vector3d>* centres,
                          TranslationAveragingSummary* summary_out) {
@@ -125,7 +125,7 @@ bool AverageTranslations(const std::vector<Triplet>& triplets, const std::vector
 
   // Image nodes and the triplets' baselines in the global orientation.
   std::map<uint32_t, int> node;
-  for (const Triplet& t : triplets) {
+  for (const LocalMotion& t : triplets) {
     if (!HasDistinctImages(t)) return finish(false, "a triplet has repeated images");
     for (uint32_t id : t.image_ids) {
       if (!rotations.count(id)) return finish(false, "no rotation for image " + std::to_string(id));
@@ -142,7 +142,7 @@ bool AverageTranslations(const std::vector<Triplet>& triplets, const std::vector
   std::vector<TripletBaseline> baselines;
   std::vector<double> local_size(num_triplets);  // L_t
   for (int t = 0; t < num_triplets; ++t) {
-    const Triplet& tr = triplets[t];
+    const LocalMotion& tr = triplets[t];
     const Eigen::Matrix3d alpha = AverageTripletRotation(tr, rotations);
     double L = 0.0;
     for (int a = 0; a < 3; ++a)

@@ -102,7 +102,7 @@ void ValidateTranslationAveragingOptions(const TranslationAveragingOptions& opti
 
 // Centres of all images of the triplets. Returns false (centres untouched, message set) if
 // the preconditions fail or a solve is singular.
-bool AverageTranslations(const std::vector<Triplet>& triplets, const std::vector<TwoViewGeometry>& pairs,
+bool AverageTranslations(const std::vector<LocalMotion>& triplets, const std::vector<TwoViewGeometry>& pairs,
                          const std::map<uint32_t, Eigen::Matrix3d>& rotations,
                          const TranslationAveragingOptions& options, std::map<uint32_t, Eigen::Vector3d>* centres,
                          TranslationAveragingSummary* summary = nullptr);

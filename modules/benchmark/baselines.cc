@@ -89,7 +89,7 @@ RefinementResult RefinePointBased(const Reconstruction& tracks, const std::map<u
 }  // namespace
 
 RefinementResult RefinePoses(RefinementMethod method, const Reconstruction& tracks,
-                             const std::map<uint32_t, Pose>& initial, const std::vector<Triplet>& triplets,
+                             const std::map<uint32_t, Pose>& initial, const std::vector<LocalMotion>& triplets,
                              const PreparedHessians* hessians, const RefinementOptions& options,
                              bool record_history) {
   if (method == RefinementMethod::kPointless || method == RefinementMethod::kAveraging) {

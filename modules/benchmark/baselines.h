@@ -30,7 +30,7 @@ constexpr RefinementMethod kAllRefinementMethods[] = {RefinementMethod::kPointle
 // `record_history`, the poses before the first and after every iteration. Throws InputError
 // when the method cannot run (no usable motion, no point).
 RefinementResult RefinePoses(RefinementMethod method, const Reconstruction& tracks,
-                             const std::map<uint32_t, Pose>& initial, const std::vector<Triplet>& triplets,
+                             const std::map<uint32_t, Pose>& initial, const std::vector<LocalMotion>& triplets,
                              const PreparedHessians* hessians, const RefinementOptions& options,
                              bool record_history = false);
 

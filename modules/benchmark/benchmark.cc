@@ -65,7 +65,7 @@ MethodOutcome RunMethod(RefinementMethod method, const Reconstruction& tracks, c
 // poses are corrupted before its local BA is rejected there by its own points). Returns the
 // number corrupted. Only when the motions are the triplets (local_motions.views = 3): N-view
 // motions are built from the initial poses, which carry the initialisation's outliers already.
-int CorruptMotions(double fraction, uint64_t seed, const std::vector<Triplet>& triplets,
+int CorruptMotions(double fraction, uint64_t seed, const std::vector<LocalMotion>& triplets,
                    PreparedHessians* prepared) {
   std::vector<LocalHessian>* hessians = &prepared->result.hessians;
   if (prepared->motions.size() != triplets.size() ||
@@ -74,7 +74,7 @@ int CorruptMotions(double fraction, uint64_t seed, const std::vector<Triplet>& t
     PGBA_LOG_WARN << "outlier sweep: the motions are not the triplets; only the initialisation is corrupted";
     return 0;
   }
-  std::vector<Triplet> motions = triplets;
+  std::vector<LocalMotion> motions = triplets;
   OutlierInjectionOptions o;
   o.fraction = fraction;
   o.target = OutlierTarget::kTriplets;
@@ -97,16 +97,16 @@ SweepPoint RunSweepPoint(const Reconstruction& input_tracks, double fraction, co
   p.fraction = fraction;
   p.sigma_pointless = p.sigma_averaging = kNaN;
   GlobalMapperOptions mapper = options.mapper;
-  mapper.global_init.outliers.fraction = fraction;
-  mapper.global_init.outliers.triplet_corruption = TripletCorruption::kRelativeRotations;
+  mapper.rotation_outliers.fraction = fraction;
+  mapper.rotation_outliers.triplet_corruption = TripletCorruption::kRelativeRotations;
   mapper.global_init.max_triplet_rotation_error_deg = 0.0;
   try {
     Report scratch;
     const GlobalMapperResult init = RunGlobalMapper(input_tracks, mapper, &scratch);
     const Reconstruction tracks = TracksWithCameras(input_tracks, init.cameras);  // the mapper's cameras
-    p.pairs_corrupted = init.init.stats.pairs_corrupted;
+    p.pairs_corrupted = static_cast<int>(init.outliers_injected.pairs.size());
     PreparedHessians h = PrepareLocalHessians(tracks, init.init.poses, init.init.triplets, options.refinement);
-    p.triplets_corrupted = CorruptMotions(fraction, mapper.global_init.outliers.seed, init.init.triplets, &h);
+    p.triplets_corrupted = CorruptMotions(fraction, mapper.rotation_outliers.seed, init.init.triplets, &h);
     for (RefinementMethod method : {RefinementMethod::kPointless, RefinementMethod::kAveraging}) {
       if (method == RefinementMethod::kAveraging && !AveragingApplies(options)) continue;  // NaN, 0 images
       const RefinementResult r =

@@ -23,8 +23,8 @@ namespace pgba {
 // The same for relative motions of any N views (local_motions.h): each track restricted to
 // each motion's views. SplitTracksByTriplets is the N = 3 case.
 Reconstruction SplitTracksByMotions(const Reconstruction& tracks, const std::vector<LocalMotion>& motions);
-inline Reconstruction SplitTracksByTriplets(const Reconstruction& tracks, const std::vector<Triplet>& triplets) {
-  return SplitTracksByMotions(tracks, MotionsOfTriplets(triplets));
+inline Reconstruction SplitTracksByTriplets(const Reconstruction& tracks, const std::vector<LocalMotion>& triplets) {
+  return SplitTracksByMotions(tracks, triplets);
 }
 
 }  // namespace pgba

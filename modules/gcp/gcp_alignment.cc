@@ -8,7 +8,7 @@
 
 namespace pgba {
 
-GcpAlignment AlignToGcps(const GcpInput& input, std::map<uint32_t, Pose>* poses, std::vector<Triplet>* triplets) {
+GcpAlignment AlignToGcps(const GcpInput& input, std::map<uint32_t, Pose>* poses, std::vector<LocalMotion>* triplets) {
   std::vector<Eigen::Vector3d> src, dst;
   for (const GcpConstraint& g : input.gcps) {
     const std::optional<Eigen::Vector3d> p = TriangulateGcp(g, *poses, input.options);
@@ -30,7 +30,7 @@ GcpAlignment AlignToGcps(const GcpInput& input, std::map<uint32_t, Pose>* poses,
   a.rms_before = std::sqrt(sum / src.size());
   for (auto& [id, pose] : *poses) pose = a.transform.Apply(pose);
   const Sim3 inverse = a.transform.Inverse();
-  for (Triplet& t : *triplets) t.global_to_local = t.global_to_local * inverse;
+  for (LocalMotion& t : *triplets) t.global_to_local = t.global_to_local * inverse;
   PGBA_LOG_INFO << "GCP frame transfer: " << a.num_gcps_used << " GCPs, scale " << a.transform.s << ", RMS "
                 << a.rms_before << " m after the similarity";
   return a;

@@ -25,7 +25,7 @@ struct GcpAlignment {
 
 // Applies the transfer to `poses` and `triplets` in place. InputError if fewer than 3 GCPs
 // can be triangulated with the poses or they are (nearly) collinear.
-GcpAlignment AlignToGcps(const GcpInput& input, std::map<uint32_t, Pose>* poses, std::vector<Triplet>* triplets);
+GcpAlignment AlignToGcps(const GcpInput& input, std::map<uint32_t, Pose>* poses, std::vector<LocalMotion>* triplets);
 
 // Check of a solution against the GCPs: each GCP triangulated with `poses` vs its given
 // coordinates.

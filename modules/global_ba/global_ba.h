@@ -48,7 +48,7 @@ NLOHMANN_JSON_SERIALIZE_ENUM(GaugeFixing, {{GaugeFixing::kFixSimilarity, "fix_si
 
 enum class SimilarityInit {
   kFromPoses,    // alpha from the camera rotations, lambda / beta from the centres (default)
-  kFromTriplet,  // Triplet::global_to_local as given by the averaging stage
+  kFromTriplet,  // LocalMotion::global_to_local as given by the averaging stage
 };
 NLOHMANN_JSON_SERIALIZE_ENUM(SimilarityInit, {{SimilarityInit::kFromPoses, "from_poses"},
                                               {SimilarityInit::kFromTriplet, "from_triplet"}})

@@ -136,11 +136,6 @@ ObservationShares CountObservationShares(const Reconstruction& tracks, const std
   return shares;
 }
 
-LocalHessianResult ComputeLocalHessians(const Reconstruction& tracks, const std::vector<Triplet>& triplets,
-                                        const LocalHessianOptions& options) {
-  return ComputeLocalHessians(tracks, MotionsOfTriplets(triplets), options, nullptr);
-}
-
 LocalHessianResult ComputeLocalHessians(const Reconstruction& tracks, const std::vector<LocalMotion>& motions,
                                         const LocalHessianOptions& options, const ObservationShares* given,
                                         const FreeIntrinsics* free) {

@@ -226,8 +226,5 @@ ObservationShares CountObservationShares(const Reconstruction& tracks, const std
 LocalHessianResult ComputeLocalHessians(const Reconstruction& tracks, const std::vector<LocalMotion>& motions,
                                         const LocalHessianOptions& options, const ObservationShares* shares = nullptr,
                                         const FreeIntrinsics* free = nullptr);
-// The paper's case: every triplet as a motion of three views.
-LocalHessianResult ComputeLocalHessians(const Reconstruction& tracks, const std::vector<Triplet>& triplets,
-                                        const LocalHessianOptions& options);
 
 }  // namespace pgba

@@ -55,6 +55,23 @@ void ReadIntrinsicUnknowns(const WorkspaceJsonReader& reader, const Reconstructi
   lh->intrinsics0 = Eigen::Map<const Eigen::VectorXd>(values.data(), values.size());
 }
 
+// LocalHessian::track_points from [[x, y, z, support] or null per track of the motion].
+std::vector<PointStart> ReadPoints(const WorkspaceJsonReader& reader, const json& j, const LocalMotion& motion,
+                                   const std::string& where) {
+  if (!j.is_array() || j.size() != motion.track_ids.size())
+    reader.Fail(where, "must hold one entry per track of the motion (" + std::to_string(motion.track_ids.size()) + ")");
+  std::vector<PointStart> points(j.size());
+  for (size_t i = 0; i < j.size(); ++i) {
+    if (j[i].is_null()) continue;
+    const Eigen::Vector4d v = reader.Numbers<4>(j[i], where + "[" + std::to_string(i) + "]");
+    if (!(v(3) >= 0) || v(3) != std::floor(v(3)))
+      reader.Fail(where + "[" + std::to_string(i) + "]", "support must be a non-negative integer");
+    points[i].X = v.head<3>();
+    points[i].support = static_cast<int>(v(3));
+  }
+  return points;
+}
+
 }  // namespace
 
 fs::path WorkspaceLocalHessiansPath(const fs::path& workspace) { return workspace / "local_hessians.json"; }
@@ -70,10 +87,7 @@ void WriteLocalHessians(const fs::path& path, const Reconstruction& tracks, cons
     e["status"] = LocalHessianStatusName(lh.status);
     if (lh.status == LocalHessianStatus::kOk) {
       e["local_poses"] = json::array();
-      for (const Pose& p : lh.local_poses) {
-        const Eigen::Quaterniond& q = p.q();
-        e["local_poses"].push_back({{"q", {q.w(), q.x(), q.y(), q.z()}}, {"t", internal_workspace::Array(p.t())}});
-      }
+      for (const Pose& p : lh.local_poses) e["local_poses"].push_back(internal_workspace::PoseJson(p));
       // Self-calibration: the intrinsic unknowns of h after the poses (absent: none).
       for (size_t c = 0, offset = 0; c < lh.intrinsic_camera_ids.size(); ++c) {
         const std::vector<int>& free = lh.intrinsic_free[c];
@@ -96,6 +110,13 @@ void WriteLocalHessians(const fs::path& path, const Reconstruction& tracks, cons
       e["robust_cost"] = lh.robust_cost;
       e["eigenvalue_ratio"] = lh.eigenvalue_ratio;
       e["newton_step"] = std::vector<double>(lh.newton_step.data(), lh.newton_step.data() + lh.newton_step.size());
+      // The points at local_poses, where the next re-linearisation's triangulation starts.
+      if (!lh.track_points.empty()) {
+        json points = json::array();
+        for (const PointStart& p : lh.track_points)
+          points.push_back(p.X.allFinite() ? json{p.X.x(), p.X.y(), p.X.z(), p.support} : json());
+        e["points"] = std::move(points);
+      }
     }
     entries.push_back(std::move(e));
   }
@@ -138,13 +159,8 @@ LocalHessianResult ReadLocalHessians(const fs::path& path, const Reconstruction&
       if (!poses.is_array() || poses.size() != n)
         reader.Fail(where, "\"local_poses\" must hold " + std::to_string(n) + " entries");
       lh.local_poses.resize(n);
-      for (size_t v = 0; v < n; ++v) {
-        const std::string pw = where + ".local_poses[" + std::to_string(v) + "]";
-        const Eigen::Vector4d q = reader.Numbers<4>(reader.Field(poses[v], "q", pw), pw + ".q");
-        if (!(q.norm() > 0.5 && q.norm() < 2.0)) reader.Fail(pw, "quaternion is not unit");
-        lh.local_poses[v] = Pose::FromQt(Eigen::Quaterniond(q(0), q(1), q(2), q(3)),
-                                         reader.Numbers<3>(reader.Field(poses[v], "t", pw), pw + ".t"));
-      }
+      for (size_t v = 0; v < n; ++v)
+        lh.local_poses[v] = reader.PoseOf(poses[v], where + ".local_poses[" + std::to_string(v) + "]");
       const Eigen::VectorXd h = reader.Numbers(reader.Field(e, "h", where), dim * dim, where + ".h");
       lh.h = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(h.data(), dim, dim);
       const double scale = lh.h.cwiseAbs().maxCoeff();
@@ -169,6 +185,8 @@ LocalHessianResult ReadLocalHessians(const fs::path& path, const Reconstruction&
       // Optional (files written before it existed: 0, the paper's eq. 5 without gradient).
       lh.newton_step = e.contains("newton_step") ? reader.Numbers(e["newton_step"], dim, where + ".newton_step")
                                                  : Eigen::VectorXd::Zero(dim);
+      // Optional (absent: the next re-linearisation triangulates from scratch).
+      if (e.contains("points")) lh.track_points = ReadPoints(reader, e["points"], motions[k], where + ".points");
     }
     ++result.status_counts[static_cast<int>(lh.status)];
     result.hessians.push_back(lh);

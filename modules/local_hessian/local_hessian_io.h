@@ -12,7 +12,7 @@
 // on reading (paper eq. 5), so the file cannot hold an inconsistent decomposition; the prior
 // and the reduced gradient are not stored (newton_step = -h^-1 g is; optional on reading).
 //
-// Reading checks the entries against the workspace's motions (same count, same images in
+// Reading checks the entries against the workspace's motions (motions.json; same count, same images in
 // the same order, by name and id) and h (finite, symmetric, positive semi-definite up to
 // rounding): any mismatch or a NaN is a one-line InputError naming the file and the entry.
 #pragma once

@@ -101,12 +101,12 @@ void ConvergeLocalMotions(const Reconstruction& tracks, const LocalHessianOption
 }
 
 std::vector<LocalMotion> ChooseLocalMotions(const Reconstruction& tracks, const std::map<uint32_t, Pose>& poses,
-                                            const std::vector<Triplet>& triplets, const LocalMotionOptions& options) {
+                                            const std::vector<LocalMotion>& triplets, const LocalMotionOptions& options) {
   switch (options.kind) {
     case MotionKind::kWholeTracks:
       return SelectWholeTrackMotions(tracks, poses, {options.max_views, options.min_tracks});
     case MotionKind::kTriplets:
-      return MotionsOfTriplets(triplets);
+      return triplets;
     case MotionKind::kNeighbours:
       return SelectLocalMotions(tracks, poses, options);
   }
@@ -114,7 +114,7 @@ std::vector<LocalMotion> ChooseLocalMotions(const Reconstruction& tracks, const 
 }
 
 std::vector<LocalMotion> BuildLocalMotions(const Reconstruction& tracks, const std::map<uint32_t, Pose>& poses,
-                                           const std::vector<Triplet>& triplets,
+                                           const std::vector<LocalMotion>& triplets,
                                            const LocalHessianOptions& lh_options, const LocalMotionOptions& options) {
   std::vector<LocalMotion> motions = ChooseLocalMotions(tracks, poses, triplets, options);
   if (NeedsConvergedStart(options)) ConvergeLocalMotions(tracks, lh_options, options, &motions);

@@ -97,7 +97,7 @@ inline bool NeedsConvergedStart(const LocalMotionOptions& options) { return opti
 // id), local poses = the given poses, global_to_local = identity, and track_ids = the tracks
 // seen by at least two of the views. Motions with the same set of images are kept once, and
 // motions of fewer than 3 views are not made. Deterministic. For views <= 3 the result is
-// empty: the triplets serve (MotionsOfTriplets).
+// empty: the triplets serve.
 std::vector<LocalMotion> SelectLocalMotions(const Reconstruction& tracks, const std::map<uint32_t, Pose>& poses,
                                             const LocalMotionOptions& options);
 
@@ -114,11 +114,11 @@ void ConvergeLocalMotions(const Reconstruction& tracks, const LocalHessianOption
 // images of `poses`, so a re-run from a workspace (`reconstruct --workspace`) finds the same
 // ones from its initial poses.
 std::vector<LocalMotion> ChooseLocalMotions(const Reconstruction& tracks, const std::map<uint32_t, Pose>& poses,
-                                            const std::vector<Triplet>& triplets, const LocalMotionOptions& options);
+                                            const std::vector<LocalMotion>& triplets, const LocalMotionOptions& options);
 
 // ChooseLocalMotions, the kNeighbours ones then converged from `poses` (ConvergeLocalMotions).
 std::vector<LocalMotion> BuildLocalMotions(const Reconstruction& tracks, const std::map<uint32_t, Pose>& poses,
-                                           const std::vector<Triplet>& triplets,
+                                           const std::vector<LocalMotion>& triplets,
                                            const LocalHessianOptions& lh_options, const LocalMotionOptions& options);
 
 }  // namespace pgba

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "averaging/global_init.h"
+#include "averaging/outlier_injection.h"
 #include "calibration/view_graph_calibration.h"
 #include "pgba/io/json_config.h"
 #include "pgba/io/report.h"
@@ -24,6 +25,10 @@ struct GlobalMapperOptions {
   ViewGraphCalibrationOptions calibration;  // section "calibration"
   TripletOptions triplets;       // section "triplets"
   GlobalInitOptions global_init;  // section "global_init"
+  // The paper's sensitivity experiment (outlier_injection.h): this fraction of the relative
+  // rotations corrupted before step 4 averages them. Not a config key: `--rotation-outliers`
+  // of `pgba init` / `pgba benchmark` and the benchmark's sweep set it.
+  OutlierInjectionOptions rotation_outliers;
 
   // Empty if valid, else "section.key: problem" for the first invalid option.
   std::string Check() const;
@@ -41,6 +46,7 @@ struct GlobalMapperResult {
   ViewGraphCalibrationResult calibration;  // step 2 (empty when no camera was estimated)
   std::vector<TwoViewGeometry> pairs;
   GlobalInitResult init;  // poses, kept triplets with similarities, dropped images
+  OutlierInjectionResult outliers_injected;  // with options.rotation_outliers: what was corrupted
 };
 
 // `tracks` with `cameras` in place of its own (a copy; the same ids are expected).

@@ -11,9 +11,9 @@
 namespace pgba {
 
 double TripletRotationMisfit(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
-                             const std::vector<Triplet>& triplets) {
+                             const std::vector<LocalMotion>& triplets) {
   std::vector<double> misfit;
-  for (const Triplet& t : triplets) {
+  for (const LocalMotion& t : triplets) {
     double worst_px = 0.0;
     bool posed = true;
     for (int a = 0; a < 3 && posed; ++a) {
@@ -35,23 +35,23 @@ double TripletRotationMisfit(const Reconstruction& tracks, const std::map<uint32
   return misfit.empty() ? 0.0 : UpperMedian(misfit);
 }
 
-std::vector<Triplet> TripletStartSubset(const std::vector<Triplet>& triplets, int max_per_image) {
+std::vector<LocalMotion> TripletStartSubset(const std::vector<LocalMotion>& triplets, int max_per_image) {
   if (max_per_image <= 0) return triplets;
   std::vector<TripletCandidate> candidates(triplets.size());
   for (size_t i = 0; i < triplets.size(); ++i) {
-    candidates[i].image_ids = triplets[i].image_ids;
+    candidates[i].image_ids = TripletImageIds(triplets[i]);
     std::sort(candidates[i].image_ids.begin(), candidates[i].image_ids.end());
     candidates[i].score = static_cast<double>(triplets[i].track_ids.size());
   }
-  std::vector<Triplet> subset;
+  std::vector<LocalMotion> subset;
   for (const size_t i : SelectTriplets(candidates, max_per_image)) subset.push_back(triplets[i]);
   return subset;
 }
 
 std::map<uint32_t, Pose> TripletPointlessStart(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
-                                               const std::vector<Triplet>& all_triplets, int max_iterations,
+                                               const std::vector<LocalMotion>& all_triplets, int max_iterations,
                                                int max_per_image) {
-  const std::vector<Triplet> triplets = TripletStartSubset(all_triplets, max_per_image);
+  const std::vector<LocalMotion> triplets = TripletStartSubset(all_triplets, max_per_image);
   // The triplets come converged from their own BA (triplet stage): h is taken where they are.
   LocalHessianOptions paper_lh;
   paper_lh.max_iterations = 0;
@@ -61,7 +61,7 @@ std::map<uint32_t, Pose> TripletPointlessStart(const Reconstruction& tracks, con
   paper_ba.max_iterations_per_round = max_iterations;
   const LocalHessianResult h = ComputeLocalHessians(tracks, triplets, paper_lh);
   const GlobalBAResult r =
-      RelinearizedGlobalBA(tracks, paper_lh, initial, MotionsOfTriplets(triplets), h.hessians, paper_ba);
+      RelinearizedGlobalBA(tracks, paper_lh, initial, triplets, h.hessians, paper_ba);
   std::map<uint32_t, Pose> start = initial;
   for (const auto& [id, pose] : r.poses) start[id] = pose;
   return start;

@@ -27,17 +27,17 @@ namespace pgba {
 // 1.7-8 (synthetic orbit, aerial, planar; fountain_p11, herzjesu_p8, entry_p10, also
 // uncalibrated), temple_sparse_ring 37-114, the long-focal loops 1065-1192. 0 when no triplet has all three initial poses.
 double TripletRotationMisfit(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
-                             const std::vector<Triplet>& triplets);
+                             const std::vector<LocalMotion>& triplets);
 
 // The triplets the start uses: about `max_per_image` per image (most tracks first), covering
 // every image and keeping the triplet graph connected (SelectTriplets); all for <= 0.
-std::vector<Triplet> TripletStartSubset(const std::vector<Triplet>& triplets, int max_per_image);
+std::vector<LocalMotion> TripletStartSubset(const std::vector<LocalMotion>& triplets, int max_per_image);
 
 // The poses of the triplets' pointless BA from `initial` (paper settings, one IRLS round of at
 // most `max_iterations`, no re-linearisation: only a linearisation point) over
 // TripletStartSubset(triplets, max_per_image). Images that BA leaves out keep `initial`.
 std::map<uint32_t, Pose> TripletPointlessStart(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
-                                               const std::vector<Triplet>& triplets, int max_iterations,
+                                               const std::vector<LocalMotion>& triplets, int max_iterations,
                                                int max_per_image);
 
 }  // namespace pgba

@@ -61,13 +61,16 @@ PointlessMapperResult ReadMapperWorkspace(const Reconstruction& tracks, const st
   const fs::path hessians = WorkspaceLocalHessiansPath(ws);
   if (fs::exists(hessians)) {
     StageTimer timer(report, "local_hessians");
-    const LocalMotionOptions& motions = options.refinement.local_motions;
-    out.hessians.motions = ChooseLocalMotions(tracks, initial.init.poses, initial.init.triplets, motions);
+    require(WorkspaceMotionsPath(ws));
+    WorkspaceMotions motions = ReadMotions(WorkspaceMotionsPath(ws), tracks);
+    out.hessians.motions = std::move(motions.motions);
+    out.hessians.triplet_rotation_misfit = motions.triplet_rotation_misfit;
+    out.hessians.triplet_start = !motions.linearization_poses.empty();
+    out.hessians.linearization_poses = std::move(motions.linearization_poses);
     out.hessians.result = ReadLocalHessians(hessians, tracks, out.hessians.motions);
-    if (motions.kind == MotionKind::kWholeTracks && motions.triplet_start_misfit > 0)
-      MeasureTripletStart(tracks, initial.init.poses, initial.init.triplets, motions, &out.hessians);
     nlohmann::json& stage = timer.Stop();
     stage["read_from"] = hessians.string();
+    stage["motions"] = out.hessians.motions.size();
     stage["ok"] = out.hessians.result.num_ok();
   }
   return out;
@@ -75,6 +78,9 @@ PointlessMapperResult ReadMapperWorkspace(const Reconstruction& tracks, const st
 
 void WriteReconstruction(const std::string& out, const Reconstruction& tracks, const PointlessMapperResult& result) {
   WriteGlobalMapperWorkspace(out, tracks, result.initial);
+  WriteMotions(WorkspaceMotionsPath(out), tracks,
+               {result.hessians.motions, result.hessians.triplet_rotation_misfit,
+                result.hessians.triplet_start ? result.hessians.linearization_poses : std::map<uint32_t, Pose>()});
   WriteLocalHessians(WorkspaceLocalHessiansPath(out), tracks, result.hessians.result);
   WriteColmapText(result.model, (fs::path(out) / "sparse").string());
   WritePly(result.model, (fs::path(out) / "points.ply").string());

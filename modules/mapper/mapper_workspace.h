@@ -1,7 +1,7 @@
 // The PointlessMapper's artefacts on disk (ARCHITECTURE.md, "Workspace"): what each step
 // writes, and the reading back that lets a re-run start after them.
 //   steps 1-4: pairs.json, triplets.json (kept triplets with their similarities), init/
-//   step 5:    local_hessians.json
+//   step 5:    motions.json (the relative motions as linearised), local_hessians.json
 //   step 8:    sparse/ (COLMAP text model), points.ply
 #pragma once
 
@@ -18,14 +18,14 @@ void WriteGlobalMapperWorkspace(const std::string& workspace, const Reconstructi
 
 // The artefacts of an earlier `init` or `reconstruct` in `workspace`: WS/pairs.json,
 // WS/triplets.json and the initial poses of WS/init/ (matched to `tracks` by image name), and
-// WS/local_hessians.json where present (stage "workspace" of `report`; the motions are chosen
-// again from the initial poses, the file holding each one's model). A missing or foreign
-// artefact is an InputError naming the file.
+// WS/motions.json with WS/local_hessians.json where present (stage "workspace" of `report`:
+// nothing of steps 1-5 is estimated again). A missing or foreign artefact is an InputError
+// naming the file.
 PointlessMapperResult ReadMapperWorkspace(const Reconstruction& tracks, const std::string& workspace,
                                           const PointlessMapperOptions& options, Report* report);
 
-// The workspace of `init` (WriteGlobalMapperWorkspace), OUT/local_hessians.json, OUT/sparse/
-// and OUT/points.ply.
+// The workspace of `init` (WriteGlobalMapperWorkspace), OUT/motions.json,
+// OUT/local_hessians.json, OUT/sparse/ and OUT/points.ply.
 void WriteReconstruction(const std::string& out, const Reconstruction& tracks, const PointlessMapperResult& result);
 
 }  // namespace pgba

@@ -76,24 +76,39 @@ void EstimateFocals(const Reconstruction& tracks, const ViewGraphCalibrationOpti
 }
 
 // Step 3: the triplets, each solved by its own BA.
-std::vector<Triplet> EstimateTriplets(const Reconstruction& tracks, const std::vector<TwoViewGeometry>& pairs,
+std::vector<LocalMotion> EstimateTriplets(const Reconstruction& tracks, const std::vector<TwoViewGeometry>& pairs,
                                       const TripletOptions& options, Report* report) {
   StageTimer timer(report, "triplets");
   TripletStats stats;
-  std::vector<Triplet> triplets = BuildTriplets(tracks, pairs, options, &stats);
+  std::vector<LocalMotion> triplets = BuildTriplets(tracks, pairs, options, &stats);
   timer.Stop().update(ToJson(stats));  // BuildTriplets logs its own summary line
   if (triplets.empty()) throw InputError("tracks: no triplet survived estimation (see report.json for reasons)");
   return triplets;
 }
 
 // Step 4: rotation and translation averaging over the triplets; each kept triplet gets its
-// global->local similarity.
+// global->local similarity. With `outliers` (the sensitivity experiment) the relative rotations
+// averaged are corrupted first.
 GlobalInitResult AverageMotions(const Reconstruction& tracks, const std::vector<TwoViewGeometry>& pairs,
-                                const std::vector<Triplet>& triplets, const GlobalInitOptions& options,
-                                Report* report) {
+                                const std::vector<LocalMotion>& triplets, const GlobalInitOptions& options,
+                                const OutlierInjectionOptions& outliers, Report* report,
+                                OutlierInjectionResult* injected) {
   StageTimer timer(report, "global_init");
-  GlobalInitResult init = RunGlobalInitialisation(tracks, pairs, triplets, options);
-  timer.Stop().update(GlobalInitReport(init));
+  GlobalInitResult init;
+  if (outliers.fraction > 0.0) {
+    const CorruptedRelativeMotions c = CorruptRelativeMotions(outliers, pairs, triplets);
+    *injected = c.injected;
+    PGBA_LOG_INFO << "outlier injection: " << c.injected.pairs.size() << " pairs and " << c.injected.triplets.size()
+                  << (outliers.triplet_corruption == TripletCorruption::kLocalPoses ? " triplets (local poses)"
+                                                                                   : " triplets (their relative rotations)")
+                  << " given random rotations";
+    init = RunGlobalInitialisation(tracks, c.pairs, c.triplets, options, &c.rotation_measurements);
+  } else {
+    init = RunGlobalInitialisation(tracks, pairs, triplets, options);
+  }
+  nlohmann::json& stage = timer.Stop();
+  stage.update(GlobalInitReport(init));
+  stage["outliers_injected"] = {{"pairs", injected->pairs.size()}, {"triplets", injected->triplets.size()}};
   if (!init.success) throw InputError("tracks: global initialisation failed: " + init.message);
   (*report)["images_input"] = tracks.images.size();
   (*report)["images_registered"] = init.poses.size();
@@ -222,9 +237,10 @@ PointlessMapperResult PointlessMapper::Solve(const Reconstruction& input, Report
     TripletOptions triplet_options = o.triplets;
     if (!options_.skip_refinement && !SelectRefinedIntrinsics(input, options_.refinement).empty())
       triplet_options.refine_intrinsics = true;
-    const std::vector<Triplet> triplets = EstimateTriplets(tracks(), r.initial.pairs, triplet_options, report);
+    const std::vector<LocalMotion> triplets = EstimateTriplets(tracks(), r.initial.pairs, triplet_options, report);
     // 4. Rotation and translation averaging: the initial poses.
-    r.initial.init = AverageMotions(tracks(), r.initial.pairs, triplets, o.global_init, report);
+    r.initial.init = AverageMotions(tracks(), r.initial.pairs, triplets, o.global_init, o.rotation_outliers, report,
+                                    &r.initial.outliers_injected);
   } else if (CamerasChanged(input, r.initial.cameras)) {
     recalibrated = TracksWithCameras(input, r.initial.cameras);
   }

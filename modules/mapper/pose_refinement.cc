@@ -62,7 +62,7 @@ FreeIntrinsics SelectRefinedIntrinsics(const Reconstruction& tracks, const Refin
 }
 
 void MeasureTripletStart(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
-                         const std::vector<Triplet>& triplets, const LocalMotionOptions& options,
+                         const std::vector<LocalMotion>& triplets, const LocalMotionOptions& options,
                          PreparedHessians* hessians) {
   hessians->triplet_rotation_misfit = TripletRotationMisfit(tracks, initial, triplets);
   hessians->triplet_start = hessians->triplet_rotation_misfit > options.triplet_start_misfit;
@@ -75,7 +75,7 @@ void MeasureTripletStart(const Reconstruction& tracks, const std::map<uint32_t, 
 }
 
 PreparedHessians PrepareLocalHessians(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
-                                      const std::vector<Triplet>& triplets, const RefinementOptions& options) {
+                                      const std::vector<LocalMotion>& triplets, const RefinementOptions& options) {
   ResetPeakRss();
   Timer timer;
   PreparedHessians out;
@@ -88,7 +88,7 @@ PreparedHessians PrepareLocalHessians(const Reconstruction& tracks, const std::m
     PGBA_LOG_INFO << "local motions: the triplets' pointless BA gives the motions their starting poses";
     const LocalHessianResult triplet_hessians = ComputeLocalHessians(tracks, triplets, options.local_hessian);
     const GlobalBAResult refined = RelinearizedGlobalBA(tracks, options.local_hessian, initial,
-                                                        MotionsOfTriplets(triplets), triplet_hessians.hessians,
+                                                        triplets, triplet_hessians.hessians,
                                                         options.global_ba);
     for (const auto& [id, pose] : refined.poses) start[id] = pose;
   } else if (options.local_motions.kind == MotionKind::kWholeTracks && options.local_motions.triplet_start_misfit > 0) {

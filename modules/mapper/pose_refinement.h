@@ -115,12 +115,12 @@ struct PreparedHessians {
   std::map<uint32_t, Pose> linearization_poses;
 };
 PreparedHessians PrepareLocalHessians(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
-                                      const std::vector<Triplet>& triplets, const RefinementOptions& options);
+                                      const std::vector<LocalMotion>& triplets, const RefinementOptions& options);
 // Sets hessians->triplet_rotation_misfit and triplet_start from `initial`, and when it is set
 // the linearization_poses (the flag also decides the global BA's start and passes: a workspace
 // re-run that reads the local Hessians sets them again).
 void MeasureTripletStart(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
-                         const std::vector<Triplet>& triplets, const LocalMotionOptions& options,
+                         const std::vector<LocalMotion>& triplets, const LocalMotionOptions& options,
                          PreparedHessians* hessians);
 
 // Step 7: the pointless global BA from `initial` on `hessians` (from PrepareLocalHessians on

@@ -259,8 +259,9 @@ TripletEstimate EstimateTriplet(const TrackIndex& index, const std::array<uint32
   to_canonical.s = 1.0 / d01;
   to_canonical.R = P0.R();
   to_canonical.t = -to_canonical.s * (to_canonical.R * C0);
-  Triplet& triplet = out.triplet;
-  triplet.image_ids = ids;
+  LocalMotion& triplet = out.triplet;
+  triplet.image_ids.assign(ids.begin(), ids.end());
+  triplet.local_poses.resize(3);
   for (int k = 0; k < 3; ++k) triplet.local_poses[k] = to_canonical.Apply(local.images.at(ids[k]).pose);
   triplet.local_poses[0] = Pose();  // exactly, not up to rounding
   for (const auto& [pid, point] : local.points3D) triplet.track_ids.push_back(pid);

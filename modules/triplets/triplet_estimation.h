@@ -16,7 +16,7 @@
 //      held, repeated after removing observations off by more than outlier_threshold_px.
 //   5. Checks: tracks >= min_tracks, median triangulation angle >= the threshold (else near
 //      pure rotation), rms <= max_rms_px, BA converged.
-//   6. The local frame is then re-expressed in the canonical gauge of the Triplet artefact:
+//   6. The local frame is then re-expressed in the canonical gauge of the triplet artefact:
 //      image_ids ascending, local_poses[0] = identity, |C(local_poses[1])| = 1.
 #pragma once
 
@@ -31,7 +31,7 @@ namespace pgba {
 
 struct TripletEstimate {
   TripletRejection rejection = TripletRejection::kNone;
-  Triplet triplet;                        // valid if rejection == kNone
+  LocalMotion triplet;                    // valid if rejection == kNone
   int num_tracks_all_views = 0;           // tracks seen by all three views after the BA
   double median_triangulation_angle_deg = 0.0;
   double score = 0.0;                     // TripletOptions::score_angle_deg

@@ -19,7 +19,14 @@
 #include <cstdint>
 #include <vector>
 
+#include "pgba/scene/local_motion.h"
+
 namespace pgba {
+
+// The three image ids of a triplet (a motion of three views), in its order.
+inline std::array<uint32_t, 3> TripletImageIds(const LocalMotion& triplet) {
+  return {triplet.image_ids.at(0), triplet.image_ids.at(1), triplet.image_ids.at(2)};
+}
 
 struct TripletCandidate {
   std::array<uint32_t, 3> image_ids{};  // sorted ascending

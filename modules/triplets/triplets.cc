@@ -211,7 +211,7 @@ nlohmann::json ToJson(const TripletStats& s) {
           {"seconds", s.seconds}};
 }
 
-std::vector<Triplet> BuildTriplets(const Reconstruction& tracks, const std::vector<TwoViewGeometry>& pairs,
+std::vector<LocalMotion> BuildTriplets(const Reconstruction& tracks, const std::vector<TwoViewGeometry>& pairs,
                                    const TripletOptions& options, TripletStats* stats_out) {
   Timer timer;
   TripletStats stats;
@@ -294,7 +294,7 @@ std::vector<Triplet> BuildTriplets(const Reconstruction& tracks, const std::vect
     }
   }
 
-  std::vector<Triplet> result;
+  std::vector<LocalMotion> result;
   std::set<uint32_t> covered;
   std::vector<double> rms;
   for (size_t i : selected) {
@@ -309,7 +309,7 @@ std::vector<Triplet> BuildTriplets(const Reconstruction& tracks, const std::vect
   stats.selected = static_cast<int>(result.size());
   stats.images_covered = static_cast<int>(covered.size());
   std::vector<std::array<uint32_t, 3>> ids;
-  for (const Triplet& t : result) ids.push_back(t.image_ids);
+  for (const LocalMotion& t : result) ids.push_back(TripletImageIds(t));
   TripletGraphComponents(ids, &stats.triplet_graph_components);
   if (!rms.empty()) {
     std::nth_element(rms.begin(), rms.begin() + rms.size() / 2, rms.end());

@@ -14,7 +14,7 @@
 //                 until every selected triplet is estimated. Only selected triplets are
 //                 ever estimated, which keeps large, highly overlapping sets tractable.
 //
-// Local frame of every returned Triplet (the gauge): image_ids ascending,
+// Local frame of every returned LocalMotion (the gauge): image_ids ascending,
 // local_poses[0] = identity, |C(local_poses[1]) - C(local_poses[0])| = 1; track_ids are the
 // input tracks used by the triplet BA (seen by >= 2 of the 3 views after outlier removal).
 #pragma once
@@ -29,7 +29,7 @@ namespace pgba {
 
 // Triplets sorted by image_ids. The result does not depend on the number of threads.
 // Throws InputError for inconsistent tracks.
-std::vector<Triplet> BuildTriplets(const Reconstruction& tracks, const std::vector<TwoViewGeometry>& pairs,
+std::vector<LocalMotion> BuildTriplets(const Reconstruction& tracks, const std::vector<TwoViewGeometry>& pairs,
                                    const TripletOptions& options, TripletStats* stats = nullptr);
 
 // Triangles of the view graph, each sorted ascending, in lexicographic order.

@@ -5,8 +5,8 @@
 namespace pgba {
 namespace {
 
-Triplet T(uint32_t a, uint32_t b, uint32_t c) {
-  Triplet t;
+LocalMotion T(uint32_t a, uint32_t b, uint32_t c) {
+  LocalMotion t;
   t.image_ids = {a, b, c};
   return t;
 }
@@ -30,7 +30,7 @@ TEST(Connectivity, LargestViewGraphComponent) {
 TEST(Connectivity, TripletsMustShareAPair) {
   // (1,2,3)-(2,3,4)-(3,4,5) share pairs; (5,6,7) touches them in image 5 only; (8,9,10) is
   // apart; (11,11,12) is invalid.
-  const std::vector<Triplet> triplets = {T(5, 6, 7), T(1, 2, 3), T(8, 9, 10), T(4, 3, 2), T(11, 11, 12), T(3, 5, 4)};
+  const std::vector<LocalMotion> triplets = {T(5, 6, 7), T(1, 2, 3), T(8, 9, 10), T(4, 3, 2), T(11, 11, 12), T(3, 5, 4)};
   const std::vector<int> kept = LargestTripletComponent(triplets);
   EXPECT_EQ(kept, (std::vector<int>{1, 3, 5}));
   EXPECT_EQ(ImagesOfTriplets(triplets, kept), (std::set<uint32_t>{1, 2, 3, 4, 5}));
@@ -40,7 +40,7 @@ TEST(Connectivity, TripletsMustShareAPair) {
 
 TEST(Connectivity, LargestTripletComponentCountsImages) {
   // Component A: 2 triplets over 4 images; component B: 3 triplets over 5 images.
-  const std::vector<Triplet> triplets = {T(1, 2, 3), T(2, 3, 4), T(10, 11, 12), T(11, 12, 13), T(12, 13, 14)};
+  const std::vector<LocalMotion> triplets = {T(1, 2, 3), T(2, 3, 4), T(10, 11, 12), T(11, 12, 13), T(12, 13, 14)};
   EXPECT_EQ(LargestTripletComponent(triplets), (std::vector<int>{2, 3, 4}));
 }
 

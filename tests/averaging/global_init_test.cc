@@ -1,4 +1,5 @@
 #include "averaging/global_init.h"
+#include "averaging/outlier_injection.h"
 
 #include <gtest/gtest.h>
 
@@ -50,7 +51,7 @@ TEST_P(GlobalInitLayouts, RegistersEverythingAccurately) {
   EXPECT_LT(a.rot_median, 0.1);
   EXPECT_LT(a.rot_max, 0.5);
   EXPECT_LT(a.centre_median, 0.01);
-  for (const Triplet& t : r.triplets)
+  for (const LocalMotion& t : r.triplets)
     for (int k = 0; k < 3; ++k) {
       const Pose predicted = t.global_to_local.Apply(r.poses.at(t.image_ids[k]));
       EXPECT_LT(RotationAngleDeg(predicted.R(), t.local_poses[k].R()), 1.0);
@@ -74,29 +75,38 @@ TEST_P(GlobalInitOutliers, Orbit) {
   const auto [fraction, corruption] = GetParam();
   const test::GroundTruth gt = test::MakeLayout(Layout::kOrbit, 31);
   const test::RelativeMotions m = test::MakeRelativeMotions(gt, test::NoiseModel(), 32);
-  GlobalInitOptions options;
-  options.outliers.fraction = fraction;
-  options.outliers.seed = 33;
-  options.outliers.triplet_corruption = corruption;
-  const GlobalInitResult r = RunGlobalInitialisation(test::MakeTracks(gt), m.pairs, m.triplets, options);
+  OutlierInjectionOptions outliers;
+  outliers.fraction = fraction;
+  outliers.seed = 33;
+  outliers.triplet_corruption = corruption;
+  const CorruptedRelativeMotions c = CorruptRelativeMotions(outliers, m.pairs, m.triplets);
+  const int triplets_corrupted = static_cast<int>(c.injected.triplets.size());
+  const int pairs_corrupted = static_cast<int>(c.injected.pairs.size());
+  EXPECT_EQ(triplets_corrupted, static_cast<int>(std::lround(fraction * m.triplets.size())));
+  EXPECT_EQ(pairs_corrupted, static_cast<int>(std::lround(fraction * m.pairs.size())));
+  // Corrupted as measurements only: the triplets handed to the initialisation keep their poses.
+  if (corruption == TripletCorruption::kRelativeRotations) {
+    for (size_t k = 0; k < m.triplets.size(); ++k)
+      for (int v = 0; v < 3; ++v) ASSERT_EQ(c.triplets[k].local_poses[v].R(), m.triplets[k].local_poses[v].R());
+  }
+  const GlobalInitResult r =
+      RunGlobalInitialisation(test::MakeTracks(gt), c.pairs, c.triplets, GlobalInitOptions(), &c.rotation_measurements);
   ASSERT_TRUE(r.success) << r.message;
-  EXPECT_EQ(r.stats.triplets_corrupted, static_cast<int>(std::lround(fraction * m.triplets.size())));
-  EXPECT_EQ(r.stats.pairs_corrupted, static_cast<int>(std::lround(fraction * m.pairs.size())));
   if (corruption == TripletCorruption::kLocalPoses) {
-    EXPECT_GE(r.stats.triplets_rotation_outliers, r.stats.triplets_corrupted * 9 / 10);
-    EXPECT_LE(r.stats.triplets_rotation_outliers, r.stats.triplets_corrupted + 2);
+    EXPECT_GE(r.stats.triplets_rotation_outliers, triplets_corrupted * 9 / 10);
+    EXPECT_LE(r.stats.triplets_rotation_outliers, triplets_corrupted + 2);
   } else {
     EXPECT_EQ(r.stats.triplets_rotation_outliers, 0);
     EXPECT_EQ(r.triplets.size(), m.triplets.size());
-    EXPECT_GE(r.stats.rotation.num_outliers, 2 * r.stats.triplets_corrupted);
-    EXPECT_LE(r.stats.rotation.num_outliers, 2 * r.stats.triplets_corrupted + r.stats.pairs_corrupted);
+    EXPECT_GE(r.stats.rotation.num_outliers, 2 * triplets_corrupted);
+    EXPECT_LE(r.stats.rotation.num_outliers, 2 * triplets_corrupted + pairs_corrupted);
     EXPECT_TRUE(r.stats.rotation.images_without_inliers.empty());
   }
   EXPECT_EQ(r.poses.size(), gt.poses.size());
   const Accuracy a = Measure(r, gt);
   std::cout << "orbit, " << fraction << " outliers: rotation error median " << a.rot_median << " max " << a.rot_max
             << " deg, centre median " << a.centre_median << "; " << r.stats.triplets_rotation_outliers
-            << " triplets dropped of " << r.stats.triplets_corrupted << " corrupted, "
+            << " triplets dropped of " << triplets_corrupted << " corrupted, "
             << r.stats.rotation.num_outliers << " relative rotations excluded\n";
   EXPECT_LT(a.rot_median, 0.5);
   EXPECT_LT(a.centre_median, 0.01);
@@ -112,16 +122,19 @@ INSTANTIATE_TEST_SUITE_P(All, GlobalInitOutliers,
 TEST(GlobalInit, FilteringCanBeDisabled) {
   const test::GroundTruth gt = test::MakeLayout(Layout::kVideo, 5);
   const test::RelativeMotions m = test::MakeRelativeMotions(gt, test::NoiseModel(), 6);
+  OutlierInjectionOptions outliers;
+  outliers.fraction = 0.1;
+  outliers.target = OutlierTarget::kTriplets;
+  outliers.triplet_corruption = TripletCorruption::kLocalPoses;
+  const CorruptedRelativeMotions c = CorruptRelativeMotions(outliers, m.pairs, m.triplets);
+  EXPECT_TRUE(c.injected.pairs.empty());
   GlobalInitOptions options;
-  options.outliers.fraction = 0.1;
-  options.outliers.target = OutlierTarget::kTriplets;
-  options.outliers.triplet_corruption = TripletCorruption::kLocalPoses;
   options.max_triplet_rotation_error_deg = 0.0;
   options.max_triplet_centre_error = 0.0;
-  const GlobalInitResult r = RunGlobalInitialisation(test::MakeTracks(gt), m.pairs, m.triplets, options);
+  const GlobalInitResult r =
+      RunGlobalInitialisation(test::MakeTracks(gt), c.pairs, c.triplets, options, &c.rotation_measurements);
   ASSERT_TRUE(r.success);
   EXPECT_EQ(r.triplets.size(), m.triplets.size());
-  EXPECT_EQ(r.stats.pairs_corrupted, 0);
   EXPECT_LT(Measure(r, gt).rot_median, 0.5);
 }
 
@@ -141,7 +154,7 @@ TEST(GlobalInit, LargestComponentAndDroppedImages) {
   };
   // A separate small cluster 100, 101, 102, 103 (two triplets sharing a pair).
   for (uint32_t id = 100; id <= 103; ++id) add_image(id);
-  Triplet t = m.triplets[0];
+  LocalMotion t = m.triplets[0];
   t.image_ids = {100, 101, 102};
   m.triplets.push_back(t);
   t.image_ids = {101, 102, 103};
@@ -209,7 +222,7 @@ TEST(GlobalInit, BadInputNeverCrashes) {
   std::mt19937_64 rng(5);
   std::normal_distribution<double> n(0.0, 1.0);
   for (TwoViewGeometry& p : m.pairs) p.R_21 = RandomRotation(rng);
-  for (Triplet& t : m.triplets)
+  for (LocalMotion& t : m.triplets)
     for (Pose& p : t.local_poses) p = Pose::FromRC(RandomRotation(rng), Eigen::Vector3d(n(rng), n(rng), n(rng)));
   const GlobalInitResult g = RunGlobalInitialisation(test::MakeTracks(gt), m.pairs, m.triplets, GlobalInitOptions());
   EXPECT_EQ(g.poses.size() + g.images_dropped.size(), gt.poses.size());
@@ -225,10 +238,16 @@ TEST(GlobalInit, UnknownImageIdIsInputError) {
 TEST(GlobalInit, Deterministic) {
   const test::GroundTruth gt = test::MakeLayout(Layout::kAerial, 2);
   const test::RelativeMotions m = test::MakeRelativeMotions(gt, test::NoiseModel(), 3);
-  GlobalInitOptions options;
-  options.outliers.fraction = 0.1;
-  const GlobalInitResult a = RunGlobalInitialisation(test::MakeTracks(gt), m.pairs, m.triplets, options);
-  const GlobalInitResult b = RunGlobalInitialisation(test::MakeTracks(gt), m.pairs, m.triplets, options);
+  OutlierInjectionOptions outliers;
+  outliers.fraction = 0.1;
+  const CorruptedRelativeMotions c = CorruptRelativeMotions(outliers, m.pairs, m.triplets);
+  const CorruptedRelativeMotions d = CorruptRelativeMotions(outliers, m.pairs, m.triplets);
+  EXPECT_EQ(c.injected.pairs, d.injected.pairs);
+  EXPECT_EQ(c.injected.triplets, d.injected.triplets);
+  const GlobalInitResult a =
+      RunGlobalInitialisation(test::MakeTracks(gt), c.pairs, c.triplets, GlobalInitOptions(), &c.rotation_measurements);
+  const GlobalInitResult b =
+      RunGlobalInitialisation(test::MakeTracks(gt), d.pairs, d.triplets, GlobalInitOptions(), &d.rotation_measurements);
   ASSERT_EQ(a.poses.size(), b.poses.size());
   for (const auto& [id, p] : a.poses) {
     EXPECT_EQ(p.q().coeffs(), b.poses.at(id).q().coeffs());
@@ -241,24 +260,24 @@ TEST(GlobalInit, Deterministic) {
 // Options are JSON-loadable with defaults for absent fields; bad values are InputErrors.
 TEST(GlobalInit, OptionsFromJson) {
   const nlohmann::json j = nlohmann::json::parse(R"({"rotation": {"loss": "l_half", "loss_scale_deg": 3},
-      "translation": {"refine": false}, "outliers": {"fraction": 0.2, "target": "pairs"}})");
+      "translation": {"refine": false}})");
   const GlobalInitOptions o = j.get<GlobalInitOptions>();
   EXPECT_EQ(o.rotation.loss, RobustLoss::kLHalf);
   EXPECT_EQ(o.rotation.loss_scale_deg, 3.0);
   EXPECT_EQ(o.rotation.max_irls_iterations, RotationAveragingOptions().max_irls_iterations);
   EXPECT_FALSE(o.translation.refine);
-  EXPECT_EQ(o.outliers.target, OutlierTarget::kPairs);
   EXPECT_EQ(nlohmann::json(o).get<GlobalInitOptions>().rotation.loss, RobustLoss::kLHalf);
   EXPECT_THROW(nlohmann::json::parse(R"({"rotation": {"loss": "cauchy"}})").get<GlobalInitOptions>(),
                nlohmann::json::exception);
-  EXPECT_THROW(nlohmann::json::parse(R"({"outliers": {"target": "all"}})").get<GlobalInitOptions>(),
-               nlohmann::json::exception);
-  EXPECT_EQ(o.outliers.triplet_corruption, TripletCorruption::kRelativeRotations);
-  EXPECT_EQ(nlohmann::json::parse(R"({"outliers": {"triplet_corruption": "local_poses"}})")
-                .get<GlobalInitOptions>()
-                .outliers.triplet_corruption,
+  // The sensitivity experiment's options (not a config section: set by the commands).
+  const OutlierInjectionOptions out =
+      nlohmann::json::parse(R"({"fraction": 0.2, "target": "pairs"})").get<OutlierInjectionOptions>();
+  EXPECT_EQ(out.target, OutlierTarget::kPairs);
+  EXPECT_EQ(out.triplet_corruption, TripletCorruption::kRelativeRotations);
+  EXPECT_THROW(nlohmann::json::parse(R"({"target": "all"})").get<OutlierInjectionOptions>(), nlohmann::json::exception);
+  EXPECT_EQ(nlohmann::json::parse(R"({"triplet_corruption": "local_poses"})").get<OutlierInjectionOptions>().triplet_corruption,
             TripletCorruption::kLocalPoses);
-  EXPECT_THROW(nlohmann::json::parse(R"({"outliers": {"triplet_corruption": "poses"}})").get<GlobalInitOptions>(),
+  EXPECT_THROW(nlohmann::json::parse(R"({"triplet_corruption": "poses"})").get<OutlierInjectionOptions>(),
                nlohmann::json::exception);
   // Through the config reader: InputError naming the file.
   GlobalInitOptions read;
@@ -287,8 +306,11 @@ TEST(GlobalInit, LHalfLoss) {
   const test::RelativeMotions m = test::MakeRelativeMotions(gt, test::NoiseModel(), 9);
   GlobalInitOptions options;
   options.rotation.loss = RobustLoss::kLHalf;
-  options.outliers.fraction = 0.2;
-  const GlobalInitResult r = RunGlobalInitialisation(test::MakeTracks(gt), m.pairs, m.triplets, options);
+  OutlierInjectionOptions outliers;
+  outliers.fraction = 0.2;
+  const CorruptedRelativeMotions c = CorruptRelativeMotions(outliers, m.pairs, m.triplets);
+  const GlobalInitResult r =
+      RunGlobalInitialisation(test::MakeTracks(gt), c.pairs, c.triplets, options, &c.rotation_measurements);
   ASSERT_TRUE(r.success);
   const Accuracy a = Measure(r, gt);
   std::cout << "l1/2, 20% outliers: rotation error median " << a.rot_median << " max " << a.rot_max << "\n";

@@ -55,7 +55,7 @@ TEST(OutlierInjection, CorruptsExactlyTheRequestedFraction) {
 
 TEST(OutlierInjection, FractionBounds) {
   std::vector<TwoViewGeometry> pairs(10);
-  std::vector<Triplet> triplets;
+  std::vector<LocalMotion> triplets;
   OutlierInjectionOptions options;
   options.fraction = 1.0;
   EXPECT_EQ(InjectRotationOutliers(options, &pairs, &triplets).pairs.size(), 10u);

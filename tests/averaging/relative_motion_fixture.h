@@ -125,11 +125,12 @@ TwoViewGeometry MakePair(const std::map<uint32_t, Pose>& poses, uint32_t id1, ui
 // The triplet `ids` in a random local frame (global->local similarity *truth, scale
 // 0.2..5), its local rotations and centres perturbed.
 template <typename Rng>
-Triplet MakeTriplet(const std::map<uint32_t, Pose>& poses, const std::array<uint32_t, 3>& ids,
+LocalMotion MakeTriplet(const std::map<uint32_t, Pose>& poses, const std::array<uint32_t, 3>& ids,
                     const NoiseModel& noise, Rng& rng, Sim3* truth) {
   std::uniform_real_distribution<double> u01(0.0, 1.0);
-  Triplet t;
-  t.image_ids = ids;
+  LocalMotion t;
+  t.image_ids.assign(ids.begin(), ids.end());
+  t.local_poses.resize(3);
   Sim3& d = *truth;
   d.s = std::exp(std::log(0.2) + (std::log(5.0) - std::log(0.2)) * u01(rng));
   d.R = RandomRotation(rng);
@@ -149,7 +150,7 @@ Triplet MakeTriplet(const std::map<uint32_t, Pose>& poses, const std::array<uint
 
 struct RelativeMotions {
   std::vector<TwoViewGeometry> pairs;
-  std::vector<Triplet> triplets;
+  std::vector<LocalMotion> triplets;
   std::vector<Sim3> true_global_to_local;  // per triplet, before noise
 };
 
@@ -172,7 +173,7 @@ inline RelativeMotions MakeRelativeMotions(const GroundTruth& gt, const NoiseMod
       for (size_t c = b + 1; c < ids.size(); ++c) {
         if (!close(ids[a], ids[c]) || !close(ids[b], ids[c])) continue;
         Sim3 d;
-        Triplet t = MakeTriplet(gt.poses, {ids[a], ids[b], ids[c]}, noise, rng, &d);
+        LocalMotion t = MakeTriplet(gt.poses, {ids[a], ids[b], ids[c]}, noise, rng, &d);
         const int tracks = 50 + static_cast<int>(100 * u01(rng));
         for (int k = 0; k < tracks; ++k) t.track_ids.push_back(k);
         m.triplets.push_back(t);
@@ -221,7 +222,7 @@ inline RelativeMotions MakeRelativeMotionsFromTracks(const Reconstruction& scene
         !has_pair(ids[0], ids[2]) || !has_pair(ids[1], ids[2]))
       continue;
     Sim3 d;
-    Triplet t = MakeTriplet(poses, ids, noise, rng, &d);
+    LocalMotion t = MakeTriplet(poses, ids, noise, rng, &d);
     t.track_ids = tracks;
     m.triplets.push_back(t);
     m.true_global_to_local.push_back(d);

@@ -115,7 +115,7 @@ TEST(RotationAveraging, OutliersExcludedAsEdges) {
       p.R_21 = RandomRotation(rng);
       ++corrupted;
     }
-  for (Triplet& t : m.triplets)
+  for (LocalMotion& t : m.triplets)
     for (int k = 0; k < 3; ++k)
       if (t.image_ids[k] == victim) {
         t.local_poses[k] = Pose::FromRC(RandomRotation(rng), t.local_poses[k].C());

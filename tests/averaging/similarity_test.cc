@@ -49,8 +49,9 @@ TEST(TripletSimilarity, CollinearCentres) {
   truth.s = 0.37;
   truth.R = RandomRotation(rng);
   truth.t = Eigen::Vector3d(4, -2, 9);
-  Triplet t;
+  LocalMotion t;
   t.image_ids = {0, 1, 2};
+  t.local_poses.resize(3);
   for (int k = 0; k < 3; ++k) t.local_poses[k] = truth.Apply(poses[k]);
   const TripletSimilarityFit fit = EstimateTripletSimilarity(t, poses);
   ASSERT_TRUE(fit.valid);
@@ -85,8 +86,9 @@ TEST(TripletSimilarity, ReportsResiduals) {
 TEST(TripletSimilarity, DegenerateIsInvalid) {
   std::map<uint32_t, Pose> poses;
   for (uint32_t id = 0; id < 3; ++id) poses[id] = Pose::FromRC(Eigen::Matrix3d::Identity(), Eigen::Vector3d(1, 2, 3));
-  Triplet t;
+  LocalMotion t;
   t.image_ids = {0, 1, 2};
+  t.local_poses.resize(3);
   t.local_poses[1] = Pose::FromRC(Eigen::Matrix3d::Identity(), Eigen::Vector3d(1, 0, 0));
   EXPECT_FALSE(EstimateTripletSimilarity(t, poses).valid);
 }

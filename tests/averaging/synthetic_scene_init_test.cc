@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "averaging/global_init.h"
+#include "averaging/outlier_injection.h"
 #include "relative_motion_fixture.h"
 #include "synthetic/synthetic_scene.h"
 
@@ -21,10 +22,12 @@ Outcome RunScene(SyntheticScenario scenario, const test::NoiseModel& noise, doub
   so.seed = 3;
   const SyntheticScene scene = GenerateSyntheticScene(so);
   const test::RelativeMotions m = test::MakeRelativeMotionsFromTracks(scene.gt, noise, 4);
-  GlobalInitOptions options;
-  options.outliers.fraction = outlier_fraction;
-  options.outliers.seed = 5;
-  Outcome o{RunGlobalInitialisation(scene.input, m.pairs, m.triplets, options), 0, 0, 0, 0};
+  OutlierInjectionOptions outliers;
+  outliers.fraction = outlier_fraction;
+  outliers.seed = 5;
+  const CorruptedRelativeMotions c = CorruptRelativeMotions(outliers, m.pairs, m.triplets);
+  Outcome o{RunGlobalInitialisation(scene.input, c.pairs, c.triplets, GlobalInitOptions(), &c.rotation_measurements),
+            0, 0, 0, 0};
   std::map<uint32_t, Pose> gt;
   for (const auto& [id, im] : scene.gt.images) gt[id] = im.pose;
   std::map<uint32_t, Eigen::Matrix3d> R;

@@ -83,7 +83,7 @@ TEST(TrackPositioning, RecoversCentresWithRotationsFixed) {
   for (const auto& [id, p] : poses) centroid += p.C();
   EXPECT_LT((centroid / poses.size()).norm(), 1e-9 * scene.extent);
   std::vector<double> lambdas;
-  for (const Triplet& t : m.triplets) {
+  for (const LocalMotion& t : m.triplets) {
     double local = 0, global = 0;
     for (int a = 0; a < 3; ++a) {
       local += (t.local_poses[a].C() - t.local_poses[(a + 1) % 3].C()).norm();

@@ -116,9 +116,9 @@ TEST(TranslationAveraging, RefusesTripletsNotSharingPairs) {
   const test::GroundTruth gt = StraightStrip();
   test::NoiseModel noise;
   test::RelativeMotions m = test::MakeRelativeMotions(gt, noise, 1);
-  std::vector<Triplet> chain;  // (1,2,3), (3,4,5): share image 3 only
-  for (const Triplet& t : m.triplets)
-    if ((t.image_ids == std::array<uint32_t, 3>{1, 2, 3}) || (t.image_ids == std::array<uint32_t, 3>{3, 4, 5}))
+  std::vector<LocalMotion> chain;  // (1,2,3), (3,4,5): share image 3 only
+  for (const LocalMotion& t : m.triplets)
+    if ((t.image_ids == std::vector<uint32_t>{1, 2, 3}) || (t.image_ids == std::vector<uint32_t>{3, 4, 5}))
       chain.push_back(t);
   ASSERT_EQ(chain.size(), 2u);
   std::map<uint32_t, Eigen::Vector3d> C;

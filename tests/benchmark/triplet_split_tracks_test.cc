@@ -30,8 +30,8 @@ Reconstruction FourViews() {
   return r;
 }
 
-Triplet TripletOf(uint32_t a, uint32_t b, uint32_t c) {
-  Triplet t;
+LocalMotion TripletOf(uint32_t a, uint32_t b, uint32_t c) {
+  LocalMotion t;
   t.image_ids = {a, b, c};
   return t;
 }

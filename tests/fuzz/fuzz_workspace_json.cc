@@ -1,5 +1,5 @@
-// Fuzz target: the workspace's JSON artefacts read against a tracks model: pairs.json and
-// triplets.json (pgba/io/workspace.h), local_hessians.json (local_hessian/local_hessian_io.h)
+// Fuzz target: the workspace's JSON artefacts read against a tracks model: pairs.json,
+// triplets.json and motions.json (pgba/io/workspace.h), local_hessians.json (local_hessian/local_hessian_io.h)
 // and fingerprint.json (pgba/io/workspace_fingerprint.h). The first byte chooses the file.
 #include <Eigen/Geometry>
 #include <filesystem>
@@ -48,11 +48,12 @@ const Reconstruction& Tracks() {
   return rec;
 }
 
-std::vector<Triplet> Triplets() {
-  std::vector<Triplet> triplets;
+std::vector<LocalMotion> Triplets() {
+  std::vector<LocalMotion> triplets;
   for (uint32_t first : {1u, 2u}) {
-    Triplet t;
+    LocalMotion t;
     t.image_ids = {first, first + 1, first + 2};
+    t.local_poses.resize(3);
     for (int k = 0; k < 3; ++k)
       t.local_poses[k] = Pose::FromQt(Eigen::Quaterniond(Eigen::AngleAxisd(0.1 * k, Eigen::Vector3d::UnitY())),
                                       Eigen::Vector3d(-k, 0, 0));
@@ -80,13 +81,16 @@ std::vector<std::string> Seeds() {
   pairs[1].image_id2 = 4;
   pairs[1].t_21 = Eigen::Vector3d(0.6, 0, 0.8);
   LocalHessianResult hessians;
-  for (const Triplet& t : Triplets()) {
+  for (const LocalMotion& t : Triplets()) {
     LocalHessian h;
     h.motion_index = static_cast<int>(hessians.hessians.size());
     h.image_ids.assign(t.image_ids.begin(), t.image_ids.end());
     h.status = LocalHessianStatus::kOk;
     h.local_poses.assign(t.local_poses.begin(), t.local_poses.end());
     h.h = Eigen::MatrixXd::Identity(18, 18);
+    h.track_points.resize(t.track_ids.size());
+    h.track_points[0].X = Eigen::Vector3d(0.5, -1.0, 4.0);
+    h.track_points[0].support = 3;
     hessians.hessians.push_back(h);
   }
   WorkspaceFingerprint f;
@@ -94,6 +98,8 @@ std::vector<std::string> Seeds() {
   f.init_options = {{"pairs", {{"min_inliers", 30}}}};
   return {"P" + Artefact("seed_pairs.json", [&](const auto& p) { WritePairs(p, tracks, pairs); }),
           "T" + Artefact("seed_triplets.json", [&](const auto& p) { WriteTriplets(p, tracks, Triplets()); }),
+          "M" + Artefact("seed_motions.json",
+                         [&](const auto& p) { WriteMotions(p, tracks, {Triplets(), 12.5, {{2, Pose()}}}); }),
           "H" + Artefact("seed_hessians.json", [&](const auto& p) { WriteLocalHessians(p, tracks, hessians); }),
           "F" + Artefact("fingerprint.json", [&](const auto& p) { WriteWorkspaceFingerprint(p.parent_path(), f); })};
 }
@@ -112,10 +118,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       if (kind == 'T') {
         ReadTriplets(path, tracks);
       } else {
-        const std::vector<Triplet> triplets = fuzz::Triplets();
-        ReadLocalHessians(path, tracks, std::vector<LocalMotion>(triplets.begin(), triplets.end()));
+        ReadLocalHessians(path, tracks, fuzz::Triplets());
       }
     });
+  } else if (kind == 'M') {
+    const std::string path = fuzz::WriteScratchFile("motions.json", body);
+    fuzz::ExpectValueOrInputError(path, [&] { ReadMotions(path, tracks); });
   } else if (kind == 'F') {
     const std::string path = fuzz::WriteScratchFile("ws/fingerprint.json", body);
     WorkspaceFingerprint expected;

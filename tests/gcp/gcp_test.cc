@@ -108,11 +108,11 @@ TEST(GcpAlignment, MovesPosesAndTripletsIntoTheGcpFrame) {
   A.R = Eigen::AngleAxisd(-1.1, Eigen::Vector3d(0, 1, 1).normalized()).toRotationMatrix();
   A.t = Eigen::Vector3d(4, 5, -6);
   std::map<uint32_t, Pose> poses = Transformed(A, gt);
-  Triplet tri;
+  LocalMotion tri;
   tri.image_ids = {1, 2, 3};
   tri.global_to_local.s = 1.9;
   tri.global_to_local.t = Eigen::Vector3d(1, 2, 3);
-  std::vector<Triplet> triplets = {tri};
+  std::vector<LocalMotion> triplets = {tri};
   const std::map<uint32_t, Pose> before = poses;
 
   const Sim3 S = GcpFrame();
@@ -198,9 +198,9 @@ TEST(GcpGlobalBA, ShiftedGcpPullsTheBlockLikeARigidBody) {
   ASSERT_EQ(in.gcps.size(), 6u);
 
   // Without GCPs the gauge holds a pose of the perturbed start: not the GCP frame.
-  const GlobalBAResult free = PointlessGlobalBA(s.initial, MotionsOfTriplets(s.th.triplets), s.th.hessians.hessians, options);
+  const GlobalBAResult free = PointlessGlobalBA(s.initial, s.th.triplets, s.th.hessians.hessians, options);
   // With the true GCPs: the GCP frame, no alignment.
-  const GlobalBAResult a = PointlessGlobalBA(s.initial, MotionsOfTriplets(s.th.triplets), s.th.hessians.hessians, options, nullptr, &in);
+  const GlobalBAResult a = PointlessGlobalBA(s.initial, s.th.triplets, s.th.hessians.hessians, options, nullptr, &in);
   EXPECT_TRUE(a.summary.gcp_gauge);
   EXPECT_GE(a.summary.num_gcp_residuals, 6);
   const CentreErrors e_free = RawCentreErrors(free.poses, s.gt_gcp, s.extent);
@@ -222,7 +222,7 @@ TEST(GcpGlobalBA, ShiftedGcpPullsTheBlockLikeARigidBody) {
   const Eigen::Vector3d d = 0.05 * s.extent * Eigen::Vector3d(0.6, -0.8, 0.0);
   shifted.gcps[0].X += d;
   const GlobalBAResult b =
-      PointlessGlobalBA(s.initial, MotionsOfTriplets(s.th.triplets), s.th.hessians.hessians, options, nullptr, &shifted);
+      PointlessGlobalBA(s.initial, s.th.triplets, s.th.hessians.hessians, options, nullptr, &shifted);
   std::vector<Eigen::Vector3d> placed, target;
   for (const GcpConstraint& g : shifted.gcps) {
     placed.push_back(*TriangulateGcp(g, a.poses, in.options));

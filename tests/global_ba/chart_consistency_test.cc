@@ -54,7 +54,7 @@ TEST(ChartConsistency, GlobalResidualPredictsReprojectionCost) {
   so.seed = 21;
   const Reconstruction rec = MakeRingScene(so);
   std::mt19937_64 rng(13);
-  const Triplet t = MakeTriplet(rec, {5, 6, 8}, rng);
+  const LocalMotion t = MakeTriplet(rec, {5, 6, 8}, rng);
   const LocalHessian lh = ComputeLocalHessian(rec, t, 0, LocalHessianOptions());
   ASSERT_EQ(lh.status, LocalHessianStatus::kOk);
   LocalMotion t0 = t;

@@ -164,7 +164,7 @@ inline std::map<uint32_t, Pose> PointBasedBA(const Reconstruction& rec, const st
 // similarity and refined by a converged triplet BA on the noisy observations; then the
 // local Hessians (one local BA iteration, default options).
 struct TripletsWithHessians {
-  std::vector<Triplet> triplets;
+  std::vector<LocalMotion> triplets;
   LocalHessianResult hessians;
 };
 inline TripletsWithHessians BuildTripletsWithHessians(const Reconstruction& rec, int window, bool closed,

@@ -48,12 +48,12 @@ TEST(GlobalBA, PointlessMatchesPointBasedAndBeatsAveraging) {
   // Pointless BA with a convergence curve through the iteration callback.
   std::vector<double> curve;
   int calls = 0;
-  const GlobalBAResult pl = PointlessGlobalBA(s.initial, MotionsOfTriplets(s.th.triplets), s.th.hessians.hessians, GlobalBAOptions(),
+  const GlobalBAResult pl = PointlessGlobalBA(s.initial, s.th.triplets, s.th.hessians.hessians, GlobalBAOptions(),
                                               [&](const GlobalBAIteration& it) {
                                                 EXPECT_EQ(it.iteration, calls++);
                                                 curve.push_back(SigmaPx(s.rec, *it.poses));
                                               });
-  const GlobalBAResult av = AveragingGlobalBA(s.initial, MotionsOfTriplets(s.th.triplets), s.th.hessians.hessians, GlobalBAOptions());
+  const GlobalBAResult av = AveragingGlobalBA(s.initial, s.th.triplets, s.th.hessians.hessians, GlobalBAOptions());
   int pb_iterations = 0;
   Timer pb_timer;
   const std::map<uint32_t, Pose> pb = PointBasedBA(s.rec, s.initial, &pb_iterations);
@@ -141,8 +141,8 @@ TEST(GlobalBA, GaugeChoicesAgree) {
   a.gauge = GaugeFixing::kFixPoseAndScale;
   GlobalBAOptions b = a;
   b.gauge = GaugeFixing::kFixSimilarity;
-  const GlobalBAResult ra = PointlessGlobalBA(s.initial, MotionsOfTriplets(s.th.triplets), s.th.hessians.hessians, a);
-  const GlobalBAResult rb = PointlessGlobalBA(s.initial, MotionsOfTriplets(s.th.triplets), s.th.hessians.hessians, b);
+  const GlobalBAResult ra = PointlessGlobalBA(s.initial, s.th.triplets, s.th.hessians.hessians, a);
+  const GlobalBAResult rb = PointlessGlobalBA(s.initial, s.th.triplets, s.th.hessians.hessians, b);
   // The kFixPoseAndScale gauge keeps the reference pose where it started.
   const PoseErrors ea = GroundTruthErrors(ra.poses, s.gt);
   const PoseErrors eb = GroundTruthErrors(rb.poses, s.gt);
@@ -158,7 +158,7 @@ TEST(GlobalBA, GaugeChoicesAgree) {
 // down-weighted by the IRLS and barely move the result.
 TEST(GlobalBA, RobustToCorruptedTriplets) {
   Scenario s = MakeScenario(24, 3000, 4, 51);
-  const GlobalBAResult clean = PointlessGlobalBA(s.initial, MotionsOfTriplets(s.th.triplets), s.th.hessians.hessians, GlobalBAOptions());
+  const GlobalBAResult clean = PointlessGlobalBA(s.initial, s.th.triplets, s.th.hessians.hessians, GlobalBAOptions());
   std::vector<LocalHessian> corrupted = s.th.hessians.hessians;
   std::mt19937_64 rng(5);
   std::vector<int> bad;
@@ -167,7 +167,7 @@ TEST(GlobalBA, RobustToCorruptedTriplets) {
     p = Pose::FromRC(p.R() * RandomRotationOfAngle(rng, 3.0 * M_PI / 180.0), p.C());
     bad.push_back(static_cast<int>(i));
   }
-  const GlobalBAResult r = PointlessGlobalBA(s.initial, MotionsOfTriplets(s.th.triplets), corrupted, GlobalBAOptions());
+  const GlobalBAResult r = PointlessGlobalBA(s.initial, s.th.triplets, corrupted, GlobalBAOptions());
   const double sigma_clean = SigmaPx(s.rec, clean.poses);
   const double sigma = SigmaPx(s.rec, r.poses);
   std::printf("%zu corrupted triplets: sigma %.4f vs clean %.4f, %d down-weighted\n", bad.size(), sigma, sigma_clean,
@@ -179,13 +179,13 @@ TEST(GlobalBA, RobustToCorruptedTriplets) {
 
 TEST(GlobalBA, ExcludesUnusableTripletsAndImagesAndRejectsMismatches) {
   const Scenario s = MakeScenario(16, 2000, 4, 61);
-  std::vector<Triplet> triplets = s.th.triplets;
+  std::vector<LocalMotion> triplets = s.th.triplets;
   std::vector<LocalHessian> hessians = s.th.hessians.hessians;
   // A rejected local hessian, and an extra image with an initial pose but in no triplet.
   hessians[3].status = LocalHessianStatus::kIllConditioned;
   std::map<uint32_t, Pose> initial = s.initial;
   initial[1000] = Pose();
-  const GlobalBAResult r = PointlessGlobalBA(initial, MotionsOfTriplets(triplets), hessians, GlobalBAOptions());
+  const GlobalBAResult r = PointlessGlobalBA(initial, triplets, hessians, GlobalBAOptions());
   EXPECT_EQ(r.summary.num_motions_excluded, 1);
   EXPECT_EQ(r.summary.excluded_images, std::vector<uint32_t>{1000});
   EXPECT_EQ(r.poses.count(1000), 0u);
@@ -195,14 +195,14 @@ TEST(GlobalBA, ExcludesUnusableTripletsAndImagesAndRejectsMismatches) {
   // A hessian that belongs to another triplet list.
   std::vector<LocalHessian> wrong = s.th.hessians.hessians;
   std::swap(wrong[0].image_ids[0], wrong[0].image_ids[1]);
-  EXPECT_THROW(PointlessGlobalBA(s.initial, MotionsOfTriplets(triplets), wrong, GlobalBAOptions()), InputError);
+  EXPECT_THROW(PointlessGlobalBA(s.initial, triplets, wrong, GlobalBAOptions()), InputError);
   // NaN in an initial pose.
   std::map<uint32_t, Pose> nan_poses = s.initial;
   nan_poses[1] = Pose::FromRC(Eigen::Matrix3d::Identity(), Eigen::Vector3d(NAN, 0, 0));
-  EXPECT_THROW(PointlessGlobalBA(nan_poses, MotionsOfTriplets(triplets), hessians, GlobalBAOptions()), InputError);
+  EXPECT_THROW(PointlessGlobalBA(nan_poses, triplets, hessians, GlobalBAOptions()), InputError);
   // Nothing usable.
   for (LocalHessian& h : hessians) h.status = LocalHessianStatus::kTooFewPoints;
-  EXPECT_THROW(PointlessGlobalBA(s.initial, MotionsOfTriplets(triplets), hessians, GlobalBAOptions()), InputError);
+  EXPECT_THROW(PointlessGlobalBA(s.initial, triplets, hessians, GlobalBAOptions()), InputError);
 }
 
 // Two groups of triplets sharing a single image are not rigidly connected: only the larger
@@ -213,13 +213,13 @@ TEST(GlobalBA, KeepsLargestRigidComponent) {
   o.num_points = 3000;
   const Reconstruction rec = MakeRingScene(o);
   std::mt19937_64 rng(3);
-  std::vector<Triplet> triplets;
+  std::vector<LocalMotion> triplets;
   for (uint32_t i = 1; i <= 10; ++i) triplets.push_back(MakeTriplet(rec, {i, i + 1, i + 2}, rng));  // images 1..12
   for (uint32_t i = 12; i <= 14; ++i) triplets.push_back(MakeTriplet(rec, {i, i + 1, i + 2}, rng));  // 12..16
   const LocalHessianResult lh = ComputeLocalHessians(rec, triplets, LocalHessianOptions());
   ASSERT_EQ(lh.num_ok(), static_cast<int>(triplets.size()));
   const std::map<uint32_t, Pose> gt = PosesOf(rec);
-  const GlobalBAResult r = PointlessGlobalBA(gt, MotionsOfTriplets(triplets), lh.hessians, GlobalBAOptions());
+  const GlobalBAResult r = PointlessGlobalBA(gt, triplets, lh.hessians, GlobalBAOptions());
   EXPECT_EQ(r.poses.size(), 12u);
   EXPECT_EQ(r.summary.num_motions_excluded, 3);
   EXPECT_EQ(r.summary.excluded_images.size(), 24u - 12u);
@@ -230,7 +230,7 @@ TEST(GlobalBA, SimilarityInitialisationRecoversTheTruth) {
   o.num_points = 100;
   const Reconstruction rec = MakeRingScene(o);
   std::mt19937_64 rng(17);
-  const Triplet t = MakeTriplet(rec, {2, 3, 5}, rng);
+  const LocalMotion t = MakeTriplet(rec, {2, 3, 5}, rng);
   std::vector<Pose> global(3);
   for (int k = 0; k < 3; ++k) global[k] = rec.images.at(t.image_ids[k]).pose;
   const Sim3 est = InitializeSimilarity(global, LocalMotion(t).local_poses, Sim3()).ToSim3();
@@ -252,11 +252,11 @@ TEST(GlobalBA, OrbitSizeProblemIsFast) {
   const std::map<uint32_t, Pose> gt = PosesOf(rec);
   const std::map<uint32_t, Pose> initial = PerturbPoses(gt, 1.0, 0.02 * SceneExtent(gt), 72);
   std::mt19937_64 rng(73);
-  const std::vector<Triplet> triplets = MakeRingTriplets(rec, 5, true, rng);
+  const std::vector<LocalMotion> triplets = MakeRingTriplets(rec, 5, true, rng);
   Timer t_lh;
   const LocalHessianResult lh = ComputeLocalHessians(rec, triplets, LocalHessianOptions());
   const double lh_seconds = t_lh.Seconds();
-  const GlobalBAResult r = PointlessGlobalBA(initial, MotionsOfTriplets(triplets), lh.hessians, GlobalBAOptions());
+  const GlobalBAResult r = PointlessGlobalBA(initial, triplets, lh.hessians, GlobalBAOptions());
   const double per_iteration = r.summary.seconds / std::max(1, r.summary.iterations);
   std::printf("orbit 70 images, %zu triplets: local hessians %.3f s; global BA %.3f s, %d iterations, %.4f s/it\n",
               triplets.size(), lh_seconds, r.summary.seconds, r.summary.iterations, per_iteration);

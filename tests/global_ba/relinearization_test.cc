@@ -51,8 +51,8 @@ TEST(Relinearization, TelephotoRingReachesPointBasedAccuracy) {
   const Scene s = MakeScene(o, 4, 0.1, 1e-3);
   ASSERT_GT(s.th.hessians.num_ok(), static_cast<int>(0.9 * s.th.triplets.size()));
 
-  const GlobalBAResult fixed = PointlessGlobalBA(s.initial, MotionsOfTriplets(s.th.triplets), s.th.hessians.hessians, GlobalBAOptions());
-  const GlobalBAResult relin = RelinearizedGlobalBA(s.rec, LocalHessianOptions(), s.initial, MotionsOfTriplets(s.th.triplets),
+  const GlobalBAResult fixed = PointlessGlobalBA(s.initial, s.th.triplets, s.th.hessians.hessians, GlobalBAOptions());
+  const GlobalBAResult relin = RelinearizedGlobalBA(s.rec, LocalHessianOptions(), s.initial, s.th.triplets,
                                                     s.th.hessians.hessians, GlobalBAOptions());
   const std::map<uint32_t, Pose> pb = PointBasedBA(s.rec, s.initial);
 
@@ -91,10 +91,10 @@ TEST(Relinearization, WideRingModelsAreConsistentAndLeftAlone) {
   o.num_points = 2500;
   o.seed = 13;
   const Scene s = MakeScene(o, 4, 1.0, 0.02);
-  const GlobalBAResult fixed = PointlessGlobalBA(s.initial, MotionsOfTriplets(s.th.triplets), s.th.hessians.hessians, GlobalBAOptions());
+  const GlobalBAResult fixed = PointlessGlobalBA(s.initial, s.th.triplets, s.th.hessians.hessians, GlobalBAOptions());
   int calls = 0;
   const GlobalBAResult relin =
-      RelinearizedGlobalBA(s.rec, LocalHessianOptions(), s.initial, MotionsOfTriplets(s.th.triplets), s.th.hessians.hessians,
+      RelinearizedGlobalBA(s.rec, LocalHessianOptions(), s.initial, s.th.triplets, s.th.hessians.hessians,
                            GlobalBAOptions(), [&](const GlobalBAIteration& it) { EXPECT_EQ(it.iteration, calls++); });
   std::printf("wide ring: misfit %.3f, %d re-linearisations\n", relin.summary.misfit_ratio,
               relin.summary.relinearizations);
@@ -118,9 +118,9 @@ TEST(Relinearization, ForcedOnConsistentModelsKeepsTheSolution) {
   forced.max_relinearizations = 2;
   forced.relinearize_tolerance = 0.0;
   std::vector<int> seen;
-  const GlobalBAResult fixed = PointlessGlobalBA(s.initial, MotionsOfTriplets(s.th.triplets), s.th.hessians.hessians, forced);
+  const GlobalBAResult fixed = PointlessGlobalBA(s.initial, s.th.triplets, s.th.hessians.hessians, forced);
   const GlobalBAResult relin =
-      RelinearizedGlobalBA(s.rec, LocalHessianOptions(), s.initial, MotionsOfTriplets(s.th.triplets), s.th.hessians.hessians, forced,
+      RelinearizedGlobalBA(s.rec, LocalHessianOptions(), s.initial, s.th.triplets, s.th.hessians.hessians, forced,
                            [&](const GlobalBAIteration& it) { seen.push_back(it.iteration); });
   EXPECT_EQ(relin.summary.relinearizations, 2);
   EXPECT_GT(relin.summary.relinearization_seconds, 0.0);

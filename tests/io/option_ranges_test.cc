@@ -81,8 +81,8 @@ TEST_F(OptionRangesConfig, ReportedCasesNameTheKeyAndTheRange) {
             path_.string() + ": triplets.outlier_threshold_px = 0 is out of range (> 0)");
   EXPECT_EQ(ErrorOf(R"({"matching": {"verification": {"relative_pose": {"confidence": 1.0}}}})"),
             path_.string() + ": matching.verification.relative_pose.confidence = 1.0 is out of range (0, 1)");
-  EXPECT_EQ(ErrorOf(R"({"global_init": {"outliers": {"fraction": 1.5}}})"),
-            path_.string() + ": global_init.outliers.fraction = 1.5 is out of range [0, 1]");
+  EXPECT_EQ(ErrorOf(R"({"pairs": {"min_inlier_ratio": 1.5}})"),
+            path_.string() + ": pairs.min_inlier_ratio = 1.5 is out of range [0, 1]");
   EXPECT_EQ(ErrorOf(R"({"local_motions": {"neighbour_strides": [1, 0]}})"),
             path_.string() + ": local_motions.neighbour_strides[] = 0 is out of range (>= 1)");
   EXPECT_EQ(ErrorOf(R"({"point_based": {"bundle": {"max_iterations": 0}}})"),
@@ -98,7 +98,7 @@ TEST_F(OptionRangesConfig, MethodNamesAreOneOfTheirChoices) {
 }
 
 TEST_F(OptionRangesConfig, BoundsThemselvesAndDocumentedOffValuesAreAccepted) {
-  EXPECT_EQ(ErrorOf(R"({"global_init": {"outliers": {"fraction": 1}}, "matching": {"tracks": {"min_track_length": 2}}})"), "");
+  EXPECT_EQ(ErrorOf(R"({"pairs": {"min_inlier_ratio": 1}, "matching": {"tracks": {"min_track_length": 2}}})"), "");
   EXPECT_EQ(ErrorOf(R"({"global_ba": {"irls_factor": 0, "huber_factor": -1}, "local_hessian": {"attenuation_q": 0}})"),
             "");
   EXPECT_EQ(ErrorOf(R"({"point_based": {"filter_max_error_px": 0}, "features": {"sift": {"max_image_size": 0}}})"), "");

@@ -44,8 +44,9 @@ class WorkspaceTest : public ::testing::Test {
       pairs_.push_back(g);
     }
     for (auto ids : {std::array<uint32_t, 3>{3, 5, 8}, {5, 8, 13}}) {
-      Triplet t;
-      t.image_ids = ids;
+      LocalMotion t;
+      t.image_ids.assign(ids.begin(), ids.end());
+      t.local_poses.resize(3);
       for (Pose& p : t.local_poses) p = Pose::FromRC(RandomRotation(rng), Eigen::Vector3d(n(rng), n(rng), n(rng)));
       t.track_ids = {10, 12, 19};
       t.rms_px = 0.4 + 0.1 * n(rng);
@@ -86,7 +87,7 @@ class WorkspaceTest : public ::testing::Test {
   fs::path dir_;
   Reconstruction tracks_;
   std::vector<TwoViewGeometry> pairs_;
-  std::vector<Triplet> triplets_;
+  std::vector<LocalMotion> triplets_;
 };
 
 TEST_F(WorkspaceTest, PairsRoundTrip) {
@@ -113,7 +114,7 @@ TEST_F(WorkspaceTest, PairsRoundTrip) {
 TEST_F(WorkspaceTest, TripletsRoundTrip) {
   const fs::path path = WorkspaceTripletsPath(dir_);
   WriteTriplets(path, tracks_, triplets_);
-  const std::vector<Triplet> read = ReadTriplets(path, tracks_);
+  const std::vector<LocalMotion> read = ReadTriplets(path, tracks_);
   ASSERT_EQ(read.size(), triplets_.size());
   for (size_t k = 0; k < read.size(); ++k) {
     EXPECT_EQ(read[k].image_ids, triplets_[k].image_ids);
@@ -204,6 +205,57 @@ TEST_F(WorkspaceTest, BadTripletValues) {
   Edit(path, "[\"frame_3.png\",\"frame_5.png\",\"frame_8.png\"]", "[\"frame_3.png\",\"frame_3.png\",\"frame_8.png\"]");
   Edit(path, "\"image_ids\":[3,5,8]", "\"image_ids\":[3,3,8]");
   EXPECT_NE(ErrorOf([&] { ReadTriplets(path, tracks_); }).find("repeated image"), std::string::npos);
+}
+
+// motions.json: motions of any N >= 3 views, the start's misfit and the poses they were
+// linearised at, read back bit for bit (q to its last bit or two); a motion of fewer than three
+// views, or a triplets file read as motions, is an InputError naming the file.
+TEST_F(WorkspaceTest, MotionsRoundTripWithTheirStart) {
+  WorkspaceMotions motions;
+  LocalMotion four = triplets_[0];
+  four.image_ids.push_back(13);
+  four.local_poses.push_back(Pose::FromRC(ExpSO3(Eigen::Vector3d(0.3, -0.1, 0.2)), Eigen::Vector3d(0.1, 0.2, 0.3)));
+  motions.motions = {four, triplets_[1]};
+  motions.triplet_rotation_misfit = 1065.25;
+  motions.linearization_poses[5] = triplets_[1].local_poses[2];
+  motions.linearization_poses[13] = four.local_poses[3];
+  const fs::path path = WorkspaceMotionsPath(dir_);
+  WriteMotions(path, tracks_, motions);
+  const WorkspaceMotions read = ReadMotions(path, tracks_);
+  ASSERT_EQ(read.motions.size(), 2u);
+  for (size_t k = 0; k < 2; ++k) {
+    const LocalMotion& a = read.motions[k];
+    const LocalMotion& b = motions.motions[k];
+    EXPECT_EQ(a.image_ids, b.image_ids);
+    ASSERT_EQ(a.local_poses.size(), b.local_poses.size());
+    for (size_t v = 0; v < a.local_poses.size(); ++v) {
+      EXPECT_LT((a.local_poses[v].q().coeffs() - b.local_poses[v].q().coeffs()).norm(), 1e-15);
+      EXPECT_EQ(a.local_poses[v].t(), b.local_poses[v].t());
+    }
+    EXPECT_EQ(a.track_ids, b.track_ids);
+    EXPECT_EQ(a.rms_px, b.rms_px);
+    EXPECT_EQ(a.global_to_local.R, b.global_to_local.R);
+    EXPECT_EQ(a.global_to_local.t, b.global_to_local.t);
+  }
+  EXPECT_EQ(read.triplet_rotation_misfit, 1065.25);
+  ASSERT_EQ(read.linearization_poses.size(), 2u);
+  EXPECT_EQ(read.linearization_poses.at(13).t(), four.local_poses[3].t());
+  EXPECT_EQ(read.linearization_poses.at(5).t(), triplets_[1].local_poses[2].t());
+
+  const std::string good = Slurp(path);
+  Edit(path, "\"image_ids\":[5,8,13]", "\"image_ids\":[5,8]");
+  EXPECT_EQ(ErrorOf([&] { ReadMotions(path, tracks_); }),
+            path.string() + ": motions[1]: \"images\", \"image_ids\" and \"local_poses\" must hold the same number "
+                            "(>= 3) of entries");
+  Spit(path, good);
+  Edit(path, "\"image_id\":13", "\"image_id\":5");
+  EXPECT_NE(ErrorOf([&] { ReadMotions(path, tracks_); }).find("linearization_poses[1]: image 'frame_13.png' has id 13"),
+            std::string::npos);
+  WriteTriplets(WorkspaceTripletsPath(dir_), tracks_, triplets_);
+  EXPECT_NE(ErrorOf([&] { ReadMotions(WorkspaceTripletsPath(dir_), tracks_); }).find("pgba_motions"), std::string::npos);
+  // A triplets file holds motions of exactly three views.
+  EXPECT_NE(ErrorOf([&] { WriteTriplets(WorkspaceTripletsPath(dir_), tracks_, {four}); }).find("4 views"),
+            std::string::npos);
 }
 
 }  // namespace

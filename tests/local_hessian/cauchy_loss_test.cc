@@ -55,7 +55,7 @@ int ObservationsBeyond(const LocalBundleProblem& p, double px) {
 TEST(CauchyLocalHessian, KeepsObservationsBeyondTheCutWithPointsAtTheLossMinimum) {
   const Reconstruction rec = SceneWithShiftedObservations();
   std::mt19937_64 rng(3);
-  const Triplet t = MakeTriplet(rec, {1, 2, 4}, rng);
+  const LocalMotion t = MakeTriplet(rec, {1, 2, 4}, rng);
   LocalHessianOptions huber, cauchy;
   cauchy.loss = "cauchy";
   LocalBundleProblem ph, pc;
@@ -98,7 +98,7 @@ TEST(CauchyLocalHessian, KeepsObservationsBeyondTheCutWithPointsAtTheLossMinimum
 TEST(CauchyLocalHessian, EqualsInverseOfCameraBlockOfDenseCovariance) {
   const Reconstruction rec = SceneWithShiftedObservations();
   std::mt19937_64 rng(3);
-  const Triplet t = MakeTriplet(rec, {1, 2, 4}, rng);
+  const LocalMotion t = MakeTriplet(rec, {1, 2, 4}, rng);
   LocalHessianOptions opt;
   opt.loss = "cauchy";
   opt.max_iterations = 5;

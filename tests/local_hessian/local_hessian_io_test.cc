@@ -22,7 +22,7 @@ using namespace pgba::testing;
 
 struct Fixture {
   Reconstruction rec;
-  std::vector<Triplet> triplets;
+  std::vector<LocalMotion> triplets;
   LocalHessianResult result;
 };
 
@@ -49,9 +49,9 @@ std::string ReadAll(const fs::path& p) {
   return s.str();
 }
 
-std::string ErrorOf(const fs::path& p, const Fixture& f, const std::vector<Triplet>& triplets) {
+std::string ErrorOf(const fs::path& p, const Fixture& f, const std::vector<LocalMotion>& triplets) {
   try {
-    ReadLocalHessians(p, f.rec, MotionsOfTriplets(triplets));
+    ReadLocalHessians(p, f.rec, triplets);
   } catch (const InputError& e) {
     return e.what();
   }
@@ -63,7 +63,7 @@ TEST(LocalHessianIo, RoundTripKeepsHessiansAndRebuildsTheDecomposition) {
   ASSERT_GE(f.result.num_ok(), 4);
   const fs::path p = fs::temp_directory_path() / "pgba_lh_roundtrip.json";
   WriteLocalHessians(p, f.rec, f.result);
-  const LocalHessianResult back = ReadLocalHessians(p, f.rec, MotionsOfTriplets(f.triplets));
+  const LocalHessianResult back = ReadLocalHessians(p, f.rec, f.triplets);
   ASSERT_EQ(back.hessians.size(), f.result.hessians.size());
   EXPECT_EQ(back.status_counts, f.result.status_counts);
   for (size_t i = 0; i < back.hessians.size(); ++i) {
@@ -79,6 +79,20 @@ TEST(LocalHessianIo, RoundTripKeepsHessiansAndRebuildsTheDecomposition) {
     EXPECT_EQ(a.depth_scale, b.depth_scale);
     EXPECT_EQ(a.newton_step, b.newton_step) << i;
     for (int k = 0; k < 3; ++k) EXPECT_LT((a.local_poses[k].C() - b.local_poses[k].C()).norm(), 1e-12);
+    // The points the next re-linearisation starts from, bit for bit (NaN: no point).
+    ASSERT_EQ(a.track_points.size(), f.triplets[i].track_ids.size());
+    ASSERT_EQ(b.track_points.size(), a.track_points.size());
+    int points = 0;
+    for (size_t t = 0; t < a.track_points.size(); ++t) {
+      EXPECT_EQ(a.track_points[t].support, b.track_points[t].support);
+      if (!a.track_points[t].X.allFinite()) {
+        EXPECT_FALSE(b.track_points[t].X.allFinite());
+        continue;
+      }
+      EXPECT_EQ(a.track_points[t].X, b.track_points[t].X);
+      ++points;
+    }
+    EXPECT_EQ(points, a.num_points) << i;
   }
   fs::remove(p);
 }
@@ -90,9 +104,9 @@ TEST(LocalHessianIo, ForeignOrDamagedFilesAreErrorsNamingTheEntry) {
   const std::string good = ReadAll(p);
 
   // Another run: fewer triplets, or the triplets in another order.
-  std::vector<Triplet> fewer(f.triplets.begin(), f.triplets.end() - 1);
+  std::vector<LocalMotion> fewer(f.triplets.begin(), f.triplets.end() - 1);
   EXPECT_NE(ErrorOf(p, f, fewer).find("hessians for"), std::string::npos);
-  std::vector<Triplet> swapped = f.triplets;
+  std::vector<LocalMotion> swapped = f.triplets;
   std::swap(swapped[0], swapped[2]);
   const std::string e_swap = ErrorOf(p, f, swapped);
   EXPECT_NE(e_swap.find("hessians[0]"), std::string::npos) << e_swap;
@@ -140,7 +154,7 @@ TEST(LocalHessianIo, FiveViewMotionsRoundTripAndAreCheckedAgainstTheMotions) {
     EXPECT_LT((W.transpose() * W - a.h).norm(), 1e-9 * a.h.norm()) << i;
   }
   // Against the triplets of the same scene (another motion set): an error naming the file.
-  std::vector<LocalMotion> as_triplets = MotionsOfTriplets(f.triplets);
+  std::vector<LocalMotion> as_triplets = f.triplets;
   as_triplets.resize(motions.size());
   std::string error;
   try {
@@ -168,11 +182,11 @@ TEST(LocalHessianIo, NewtonStepIsOptionalOnReading) {
   f.result.hessians[0].newton_step.setConstant(1e-6);
   const fs::path p = fs::temp_directory_path() / "pgba_lh_newton.json";
   WriteLocalHessians(p, f.rec, f.result);
-  EXPECT_EQ(ReadLocalHessians(p, f.rec, MotionsOfTriplets(f.triplets)).hessians[0].newton_step, f.result.hessians[0].newton_step);
+  EXPECT_EQ(ReadLocalHessians(p, f.rec, f.triplets).hessians[0].newton_step, f.result.hessians[0].newton_step);
   nlohmann::json j = nlohmann::json::parse(ReadAll(p));
   for (nlohmann::json& e : j["hessians"]) e.erase("newton_step");
   std::ofstream(p) << j.dump();
-  const LocalHessianResult old = ReadLocalHessians(p, f.rec, MotionsOfTriplets(f.triplets));
+  const LocalHessianResult old = ReadLocalHessians(p, f.rec, f.triplets);
   EXPECT_EQ(old.num_ok(), f.result.num_ok());
   EXPECT_TRUE(old.hessians[0].newton_step.isZero(0.0));
   j["hessians"][0]["newton_step"] = {1.0, 2.0};

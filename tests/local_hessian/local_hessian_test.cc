@@ -63,7 +63,7 @@ TEST(LocalHessian, EqualsInverseOfCameraBlockOfDenseCovariance) {
   so.seed = 11;
   const Reconstruction rec = MakeRingScene(so);
   std::mt19937_64 rng(3);
-  const Triplet t = MakeTriplet(rec, {1, 2, 4}, rng);
+  const LocalMotion t = MakeTriplet(rec, {1, 2, 4}, rng);
   LocalHessianOptions opt;
   opt.max_iterations = 5;
   LocalBundleProblem p;
@@ -117,7 +117,7 @@ TEST(LocalHessian, PredictsPointBasedCostAlongEigenvectors) {
   so.seed = 5;
   const Reconstruction rec = MakeRingScene(so);
   std::mt19937_64 rng(9);
-  const Triplet t = MakeTriplet(rec, {3, 4, 6}, rng);
+  const LocalMotion t = MakeTriplet(rec, {3, 4, 6}, rng);
   const LocalHessianOptions opt;
   const LocalHessian lh = ComputeLocalHessian(rec, t, 0, opt);
   ASSERT_EQ(lh.status, LocalHessianStatus::kOk);
@@ -170,7 +170,7 @@ TEST(LocalHessian, DecompositionAndPriorAreConsistent) {
   so.num_points = 500;
   const Reconstruction rec = MakeRingScene(so);
   std::mt19937_64 rng(1);
-  const Triplet t = MakeTriplet(rec, {7, 8, 9}, rng);
+  const LocalMotion t = MakeTriplet(rec, {7, 8, 9}, rng);
   const LocalHessian lh = ComputeLocalHessian(rec, t, 4, LocalHessianOptions());
   ASSERT_EQ(lh.status, LocalHessianStatus::kOk);
   EXPECT_EQ(lh.motion_index, 4);
@@ -230,18 +230,18 @@ TEST(LocalHessian, RejectsWithCountedReasons) {
   so.num_points = 400;
   const Reconstruction rec = MakeRingScene(so);
   std::mt19937_64 rng(2);
-  std::vector<Triplet> triplets;
+  std::vector<LocalMotion> triplets;
   triplets.push_back(MakeTriplet(rec, {1, 2, 3}, rng));  // ok
-  Triplet few = triplets[0];
+  LocalMotion few = triplets[0];
   few.track_ids.resize(20);  // < 30 points
   triplets.push_back(few);
-  Triplet missing = triplets[0];
+  LocalMotion missing = triplets[0];
   missing.image_ids[2] = 999;  // not in the model
   triplets.push_back(missing);
-  Triplet nan_pose = triplets[0];
+  LocalMotion nan_pose = triplets[0];
   nan_pose.local_poses[1] = Pose::FromRC(Eigen::Matrix3d::Identity(), Eigen::Vector3d(NAN, 0, 0));
   triplets.push_back(nan_pose);
-  Triplet dup = triplets[0];
+  LocalMotion dup = triplets[0];
   dup.image_ids[1] = dup.image_ids[0];
   triplets.push_back(dup);
   LocalHessianOptions opt;
@@ -267,7 +267,7 @@ TEST(LocalHessian, RejectsRankDeficientGeometry) {
   so.num_points = 600;
   Reconstruction rec = MakeRingScene(so);
   std::mt19937_64 rng(4);
-  const Triplet t = MakeTriplet(rec, {1, 2, 3}, rng);
+  const LocalMotion t = MakeTriplet(rec, {1, 2, 3}, rng);
   ASSERT_GT(t.track_ids.size(), 40u);
   for (size_t i = 2; i < t.track_ids.size(); ++i) {
     auto& track = rec.points3D.at(t.track_ids[i]).track;
@@ -284,7 +284,7 @@ TEST(LocalHessian, ParallelResultIsDeterministic) {
   so.num_points = 800;
   const Reconstruction rec = MakeRingScene(so);
   std::mt19937_64 rng(8);
-  const std::vector<Triplet> triplets = testing::MakeRingTriplets(rec, 4, true, rng);
+  const std::vector<LocalMotion> triplets = testing::MakeRingTriplets(rec, 4, true, rng);
   LocalHessianOptions opt;
   const LocalHessianResult par = ComputeLocalHessians(rec, triplets, opt);
   opt.num_threads = 1;
@@ -306,7 +306,7 @@ TEST(LocalHessian, NewtonStepPointsToTheTripletOptimum) {
   so.seed = 21;
   const Reconstruction rec = MakeRingScene(so);
   std::mt19937_64 rng(22);
-  Triplet t = MakeTriplet(rec, {2, 3, 5}, rng);
+  LocalMotion t = MakeTriplet(rec, {2, 3, 5}, rng);
   LocalHessianOptions converge;
   converge.max_iterations = 50;
   const LocalHessian opt = ComputeLocalHessian(rec, t, 0, converge);
@@ -316,7 +316,7 @@ TEST(LocalHessian, NewtonStepPointsToTheTripletOptimum) {
   EXPECT_LT(whitened(opt.newton_step), 1e-2);  // px-units: converged
 
   // Linearise at the optimum moved along informative directions (0.02 deg, 1% of the baseline).
-  Triplet moved = t;
+  LocalMotion moved = t;
   std::normal_distribution<double> n(0.0, 1.0);
   const double baseline = (opt.local_poses[1].C() - opt.local_poses[0].C()).norm();
   for (int k = 0; k < 3; ++k) {
@@ -357,12 +357,12 @@ TEST(LocalHessian, SharedObservationWeightingCountsTheTripletsOfEachObservation)
   so.seed = 23;
   const Reconstruction rec = MakeRingScene(so);
   std::mt19937_64 rng(24);
-  const std::vector<Triplet> triplets = testing::MakeRingTriplets(rec, 4, false, rng);
-  const ObservationShares shares = CountObservationShares(rec, MotionsOfTriplets(triplets));
+  const std::vector<LocalMotion> triplets = testing::MakeRingTriplets(rec, 4, false, rng);
+  const ObservationShares shares = CountObservationShares(rec, triplets);
   // Brute force for every (image, track) of the triplets.
   for (const auto& [key, count] : shares) {
     int expected = 0;
-    for (const Triplet& t : triplets) {
+    for (const LocalMotion& t : triplets) {
       const bool has_image = std::find(t.image_ids.begin(), t.image_ids.end(), key.first) != t.image_ids.end();
       const bool has_track = std::find(t.track_ids.begin(), t.track_ids.end(), key.second) != t.track_ids.end();
       expected += has_image && has_track;
@@ -373,7 +373,7 @@ TEST(LocalHessian, SharedObservationWeightingCountsTheTripletsOfEachObservation)
   shared.shared_observation_weighting = true;
   const LocalHessianResult plain = ComputeLocalHessians(rec, triplets, LocalHessianOptions());
   const LocalHessianResult weighted = ComputeLocalHessians(rec, triplets, shared);
-  const LocalHessianResult given = ComputeLocalHessians(rec, MotionsOfTriplets(triplets), shared, &shares);
+  const LocalHessianResult given = ComputeLocalHessians(rec, triplets, shared, &shares);
   EXPECT_GE(weighted.num_ok(), static_cast<int>(triplets.size()) / 2);
   for (size_t i = 0; i < triplets.size(); ++i) {
     ASSERT_EQ(weighted.hessians[i].status, plain.hessians[i].status);

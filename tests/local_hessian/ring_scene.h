@@ -123,9 +123,10 @@ Sim3 RandomSim3(Rng& rng) {
 // Triplet (a, b, c) with local poses = true poses mapped by a random global->local
 // similarity, and the tracks seen by all three images.
 template <typename Rng>
-Triplet MakeTriplet(const Reconstruction& rec, std::array<uint32_t, 3> ids, Rng& rng) {
-  Triplet t;
-  t.image_ids = ids;
+LocalMotion MakeTriplet(const Reconstruction& rec, std::array<uint32_t, 3> ids, Rng& rng) {
+  LocalMotion t;
+  t.image_ids.assign(ids.begin(), ids.end());
+  t.local_poses.resize(3);
   t.global_to_local = RandomSim3(rng);
   for (int k = 0; k < 3; ++k) t.local_poses[k] = t.global_to_local.Apply(rec.images.at(ids[k]).pose);
   for (const auto& [pid, pt] : rec.points3D) {
@@ -139,9 +140,9 @@ Triplet MakeTriplet(const Reconstruction& rec, std::array<uint32_t, 3> ids, Rng&
 // Triplets of images within `window` consecutive ring positions (wrapping around a closed
 // ring): (i, i+a, i+b) for 0 < a < b < window.
 template <typename Rng>
-std::vector<Triplet> MakeRingTriplets(const Reconstruction& rec, int window, bool closed, Rng& rng) {
+std::vector<LocalMotion> MakeRingTriplets(const Reconstruction& rec, int window, bool closed, Rng& rng) {
   const int n = static_cast<int>(rec.images.size());
-  std::vector<Triplet> triplets;
+  std::vector<LocalMotion> triplets;
   for (int i = 0; i < n; ++i)
     for (int a = 1; a < window; ++a)
       for (int b = a + 1; b < window; ++b) {

@@ -133,9 +133,9 @@ TEST(SelfCalibration, PaperTripletsEstimateTheFocalToo) {
       LoadRunOptions(std::string(PGBA_SOURCE_DIR) + "/configs/paper_triplets.json").reconstruction.refinement;
   self.intrinsics.cameras = IntrinsicsCameras::kAll;
   std::mt19937_64 rng(5);
-  std::vector<Triplet> triplets = testing::MakeRingTriplets(truth, 4, /*closed=*/true, rng);
+  std::vector<LocalMotion> triplets = testing::MakeRingTriplets(truth, 4, /*closed=*/true, rng);
   const std::map<uint32_t, Pose> initial = PerturbedPoses(truth, 3);
-  for (Triplet& t : triplets)  // the local frames of the perturbed initial poses
+  for (LocalMotion& t : triplets)  // the local frames of the perturbed initial poses
     for (int k = 0; k < 3; ++k) t.local_poses[k] = t.global_to_local.Apply(initial.at(t.image_ids[k]));
   const PreparedHessians h = PrepareLocalHessians(prior, initial, triplets, self);
   const RefinementResult r = RefinePoses(RefinementMethod::kPointless, prior, initial, triplets, &h, self);

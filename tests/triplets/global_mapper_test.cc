@@ -56,7 +56,7 @@ Outcome RunMapper(const SyntheticScene& scene, const GlobalMapperOptions& option
   o.rot_max = test::Max(rot);
   o.centre_median = test::Median(test::CentreErrorsRel(C, gt, scene.extent, &R));
   std::vector<std::array<uint32_t, 3>> ids;
-  for (const Triplet& t : o.result.init.triplets) ids.push_back(t.image_ids);
+  for (const LocalMotion& t : o.result.init.triplets) ids.push_back(TripletImageIds(t));
   TripletGraphComponents(ids, &o.triplet_components);
   Reconstruction model = scene.input;
   std::vector<uint32_t> posed;
@@ -152,9 +152,11 @@ TEST(GlobalMapper, OrbitWithRotationOutliers) {
   const SyntheticScene scene = Scene(SyntheticScenario::kOrbit, 0);
   for (double fraction : {0.1, 0.2}) {
     GlobalMapperOptions options;
-    options.global_init.outliers.fraction = fraction;
+    options.rotation_outliers.fraction = fraction;
     const Outcome o = RunMapper(scene, options);
     const GlobalInitStats& s = o.result.init.stats;
+    const int pairs_corrupted = static_cast<int>(o.result.outliers_injected.pairs.size());
+    const int triplets_corrupted = static_cast<int>(o.result.outliers_injected.triplets.size());
     EXPECT_EQ(o.result.init.poses.size(), scene.gt.images.size()) << fraction;
     EXPECT_TRUE(o.result.init.images_dropped.empty()) << fraction;
     EXPECT_EQ(o.triplet_components, 1) << fraction;
@@ -163,8 +165,9 @@ TEST(GlobalMapper, OrbitWithRotationOutliers) {
     EXPECT_LT(o.centre_median, 0.01) << fraction;
     // Each corrupted triplet carries two wrong relative rotations; the corrupted pairs are
     // caught by the pair validation or excluded by their residual.
-    EXPECT_GE(s.rotation.num_outliers, 2 * s.triplets_corrupted) << fraction;
-    EXPECT_LE(s.rotation.num_outliers, 2 * s.triplets_corrupted + s.pairs_corrupted + 5) << fraction;
+    EXPECT_GT(triplets_corrupted, 0) << fraction;
+    EXPECT_GE(s.rotation.num_outliers, 2 * triplets_corrupted) << fraction;
+    EXPECT_LE(s.rotation.num_outliers, 2 * triplets_corrupted + pairs_corrupted + 5) << fraction;
     EXPECT_EQ(s.triplets_rotation_outliers, 0) << fraction;
   }
 }
@@ -175,12 +178,14 @@ TEST(GlobalMapper, OrbitWithRotationOutliers) {
 TEST(GlobalMapper, OrbitWithCorruptedTripletPoses) {
   const SyntheticScene scene = Scene(SyntheticScenario::kOrbit, 0);
   GlobalMapperOptions options;
-  options.global_init.outliers.fraction = 0.1;
-  options.global_init.outliers.triplet_corruption = TripletCorruption::kLocalPoses;
+  options.rotation_outliers.fraction = 0.1;
+  options.rotation_outliers.triplet_corruption = TripletCorruption::kLocalPoses;
   const Outcome o = RunMapper(scene, options);
   const GlobalInitStats& s = o.result.init.stats;
-  EXPECT_GE(s.triplets_rotation_outliers, s.triplets_corrupted * 9 / 10);
-  EXPECT_LE(s.triplets_rotation_outliers, s.triplets_corrupted + 2);
+  const int triplets_corrupted = static_cast<int>(o.result.outliers_injected.triplets.size());
+  EXPECT_GT(triplets_corrupted, 0);
+  EXPECT_GE(s.triplets_rotation_outliers, triplets_corrupted * 9 / 10);
+  EXPECT_LE(s.triplets_rotation_outliers, triplets_corrupted + 2);
   EXPECT_GE(o.result.init.poses.size(), scene.gt.images.size() / 2);
   EXPECT_LT(o.rot_median, 0.1);
 }

@@ -41,9 +41,9 @@ struct TripletErrors {
 // Gauge-free comparison of each triplet's local frame with the ground truth: the scale of
 // the local frame is |C1 - C0| = 1, so the ratio of the two baselines from view 0 is what
 // a triplet measures beyond its three pair directions.
-TripletErrors ErrorsAgainstTruth(const std::vector<Triplet>& triplets, const SyntheticScene& scene) {
+TripletErrors ErrorsAgainstTruth(const std::vector<LocalMotion>& triplets, const SyntheticScene& scene) {
   TripletErrors e;
-  for (const Triplet& t : triplets) {
+  for (const LocalMotion& t : triplets) {
     std::array<Pose, 3> gt;
     for (int k = 0; k < 3; ++k) gt[k] = scene.gt.images.at(t.image_ids[k]).pose;
     for (int k = 1; k < 3; ++k)
@@ -77,7 +77,7 @@ TEST(OpenTriplets, ChainWithoutSkipPairsIsBridgedAndKeepsItsScale) {
   ASSERT_TRUE(EnumerateTriangles(chain).empty());
 
   TripletStats stats;
-  const std::vector<Triplet> triplets = BuildTriplets(scene.input, chain, TripletOptions{}, &stats);
+  const std::vector<LocalMotion> triplets = BuildTriplets(scene.input, chain, TripletOptions{}, &stats);
   EXPECT_EQ(stats.images_covered, kImages);
   EXPECT_EQ(stats.triplet_graph_components, 1);
   EXPECT_EQ(stats.open_selected, static_cast<int>(triplets.size()));
@@ -98,7 +98,7 @@ TEST(OpenTriplets, ChainWithoutSkipPairsIsBridgedAndKeepsItsScale) {
 TEST(OpenTriplets, NotTriedWhereTrianglesAlreadyConnectEverything) {
   const SyntheticScene scene = Orbit(kImages);
   TripletStats stats;
-  const std::vector<Triplet> triplets =
+  const std::vector<LocalMotion> triplets =
       BuildTriplets(scene.input, EstimatePairs(scene.input, PairOptions{}), TripletOptions{}, &stats);
   EXPECT_EQ(stats.triplet_graph_components, 1);
   EXPECT_EQ(stats.images_covered, kImages);

@@ -38,9 +38,9 @@ Files RunOn(int threads, const SyntheticScene& scene, const fs::path& dir, doubl
   tbb::global_control c(tbb::global_control::max_allowed_parallelism, threads);
   const std::vector<TwoViewGeometry> pairs = EstimatePairs(scene.input, PairOptions{});
   TripletStats stats;
-  const std::vector<Triplet> triplets = BuildTriplets(scene.input, pairs, TripletOptions{}, &stats);
+  const std::vector<LocalMotion> triplets = BuildTriplets(scene.input, pairs, TripletOptions{}, &stats);
   EXPECT_EQ(stats.images_covered, static_cast<int>(scene.gt.images.size()));
-  for (const Triplet& t : triplets)
+  for (const LocalMotion& t : triplets)
     for (int k = 1; k < 3; ++k) {
       const Pose& a = scene.gt.images.at(t.image_ids[0]).pose;
       const Pose& b = scene.gt.images.at(t.image_ids[k]).pose;

@@ -171,8 +171,6 @@ Table BuildTable() {
   t["global_init.track_positioning.num_threads"] = kNonNegative;
   t["global_init.max_triplet_rotation_error_deg"] = Unbounded();  // <= 0 keeps every triplet
   t["global_init.max_triplet_centre_error"] = Unbounded();        // <= 0 keeps every triplet
-  t["global_init.outliers.fraction"] = kFraction;
-  t["global_init.outliers.seed"] = Unbounded();
   // local_motions, local_hessian (local_hessian/*.h)
   t["local_motions.views"] = AtLeast(3);
   t["local_motions.max_views"] = AtLeast(2);

@@ -30,6 +30,7 @@ const char* kTripletsFormat = "pgba_triplets";
 
 fs::path WorkspacePairsPath(const fs::path& workspace) { return workspace / "pairs.json"; }
 fs::path WorkspaceTripletsPath(const fs::path& workspace) { return workspace / "triplets.json"; }
+fs::path WorkspaceMotionsPath(const fs::path& workspace) { return workspace / "motions.json"; }
 
 void WritePairs(const fs::path& path, const Reconstruction& tracks, const std::vector<TwoViewGeometry>& pairs) {
   std::vector<json> entries;
@@ -69,69 +70,115 @@ std::vector<TwoViewGeometry> ReadPairs(const fs::path& path, const Reconstructio
   return pairs;
 }
 
-void WriteTriplets(const fs::path& path, const Reconstruction& tracks, const std::vector<Triplet>& triplets) {
+namespace {
+
+const char* kMotionsFormat = "pgba_motions";
+
+// One motion as a JSON entry (triplets.json, motions.json).
+json MotionEntry(const LocalMotion& t, const Reconstruction& tracks, const fs::path& path) {
+  json e;
+  e["images"] = json::array();
+  e["local_poses"] = json::array();
+  for (int k = 0; k < t.num_views(); ++k) {
+    e["images"].push_back(NameOf(tracks, t.image_ids[k], path));
+    e["local_poses"].push_back(internal_workspace::PoseJson(t.local_poses[k]));
+  }
+  e["image_ids"] = t.image_ids;
+  e["track_ids"] = t.track_ids;
+  e["rms_px"] = t.rms_px;
+  e["global_to_local"] = {
+      {"s", t.global_to_local.s}, {"R", RowMajor(t.global_to_local.R)}, {"t", Array(t.global_to_local.t)}};
+  return e;
+}
+
+// The motion of entry `e`: `views` views (0: any number >= 3), distinct images of the tracks
+// model, unit quaternions, track ids of the model, a positive similarity scale.
+LocalMotion ReadMotionEntry(const Reader& reader, const Reconstruction& tracks, const json& e, const std::string& where,
+                            size_t views) {
+  LocalMotion t;
+  const json& names = reader.Field(e, "images", where);
+  const json& ids = reader.Field(e, "image_ids", where);
+  const json& poses = reader.Field(e, "local_poses", where);
+  const size_t n = names.is_array() ? names.size() : 0;
+  if (!names.is_array() || !ids.is_array() || !poses.is_array() || ids.size() != n || poses.size() != n ||
+      (views ? n != views : n < 3))
+    reader.Fail(where, "\"images\", \"image_ids\" and \"local_poses\" must hold " +
+                           (views ? std::to_string(views) : std::string("the same number (>= 3) of")) + " entries");
+  for (size_t v = 0; v < n; ++v) {
+    t.image_ids.push_back(reader.Image(names[v], ids[v], where));
+    t.local_poses.push_back(reader.PoseOf(poses[v], where + ".local_poses[" + std::to_string(v) + "]"));
+  }
+  std::vector<uint32_t> sorted = t.image_ids;
+  std::sort(sorted.begin(), sorted.end());
+  if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) reader.Fail(where, "repeated image");
+  const json& track_ids = reader.Field(e, "track_ids", where);
+  if (!track_ids.is_array()) reader.Fail(where, "\"track_ids\" must be an array");
+  for (const json& id : track_ids) {
+    if (!id.is_number_unsigned()) reader.Fail(where, "track id must be a non-negative integer, got " + id.dump());
+    t.track_ids.push_back(id.get<uint64_t>());
+    if (!tracks.points3D.count(t.track_ids.back()))
+      reader.Fail(where, "track id " + id.dump() + " is not in the tracks model");
+  }
+  t.rms_px = reader.Number(reader.Field(e, "rms_px", where), where + ".rms_px");
+  const json& sim = reader.Field(e, "global_to_local", where);
+  const std::string sw = where + ".global_to_local";
+  t.global_to_local.s = reader.Number(reader.Field(sim, "s", sw), sw + ".s");
+  if (!(t.global_to_local.s > 0.0)) reader.Fail(sw, "scale must be positive");
+  t.global_to_local.R = reader.Rotation(reader.Field(sim, "R", sw), sw + ".R");
+  t.global_to_local.t = reader.Numbers<3>(reader.Field(sim, "t", sw), sw + ".t");
+  return t;
+}
+
+}  // namespace
+
+void WriteTriplets(const fs::path& path, const Reconstruction& tracks, const std::vector<LocalMotion>& triplets) {
   std::vector<json> entries;
-  for (const Triplet& t : triplets) {
-    json e;
-    e["images"] = json::array();
-    e["local_poses"] = json::array();
-    for (int k = 0; k < 3; ++k) {
-      e["images"].push_back(NameOf(tracks, t.image_ids[k], path));
-      const Eigen::Quaterniond& q = t.local_poses[k].q();
-      e["local_poses"].push_back({{"q", {q.w(), q.x(), q.y(), q.z()}}, {"t", Array(t.local_poses[k].t())}});
-    }
-    e["image_ids"] = t.image_ids;
-    e["track_ids"] = t.track_ids;
-    e["rms_px"] = t.rms_px;
-    e["global_to_local"] = {
-        {"s", t.global_to_local.s}, {"R", RowMajor(t.global_to_local.R)}, {"t", Array(t.global_to_local.t)}};
-    entries.push_back(std::move(e));
+  for (const LocalMotion& t : triplets) {
+    if (t.num_views() != 3) ThrowInputError(path.string(), 0, "cannot write a motion of " + std::to_string(t.num_views()) + " views as a triplet");
+    entries.push_back(MotionEntry(t, tracks, path));
   }
   WriteStringAtomically(path, Document(kTripletsFormat, "triplets", entries));
 }
 
-std::vector<Triplet> ReadTriplets(const fs::path& path, const Reconstruction& tracks) {
+std::vector<LocalMotion> ReadTriplets(const fs::path& path, const Reconstruction& tracks) {
   const Reader reader(path, tracks);
   const json entries = reader.Load(kTripletsFormat, "triplets");
-  std::vector<Triplet> triplets;
-  for (size_t k = 0; k < entries.size(); ++k) {
-    const std::string where = "triplets[" + std::to_string(k) + "]";
-    const json& e = entries[k];
-    Triplet t;
-    const json& names = reader.Field(e, "images", where);
-    const json& ids = reader.Field(e, "image_ids", where);
-    const json& poses = reader.Field(e, "local_poses", where);
-    if (!names.is_array() || names.size() != 3 || !ids.is_array() || ids.size() != 3 || !poses.is_array() ||
-        poses.size() != 3)
-      reader.Fail(where, "\"images\", \"image_ids\" and \"local_poses\" must hold three entries");
-    for (int v = 0; v < 3; ++v) {
-      t.image_ids[v] = reader.Image(names[v], ids[v], where);
-      const std::string pw = where + ".local_poses[" + std::to_string(v) + "]";
-      const Eigen::Vector4d q = reader.Numbers<4>(reader.Field(poses[v], "q", pw), pw + ".q");
-      if (!(q.norm() > 0.5 && q.norm() < 2.0)) reader.Fail(pw, "quaternion is not unit");
-      t.local_poses[v] = Pose::FromQt(Eigen::Quaterniond(q(0), q(1), q(2), q(3)),
-                                      reader.Numbers<3>(reader.Field(poses[v], "t", pw), pw + ".t"));
-    }
-    if (t.image_ids[0] == t.image_ids[1] || t.image_ids[0] == t.image_ids[2] || t.image_ids[1] == t.image_ids[2])
-      reader.Fail(where, "repeated image");
-    const json& track_ids = reader.Field(e, "track_ids", where);
-    if (!track_ids.is_array()) reader.Fail(where, "\"track_ids\" must be an array");
-    for (const json& id : track_ids) {
-      if (!id.is_number_unsigned()) reader.Fail(where, "track id must be a non-negative integer, got " + id.dump());
-      t.track_ids.push_back(id.get<uint64_t>());
-      if (!tracks.points3D.count(t.track_ids.back()))
-        reader.Fail(where, "track id " + id.dump() + " is not in the tracks model");
-    }
-    t.rms_px = reader.Number(reader.Field(e, "rms_px", where), where + ".rms_px");
-    const json& sim = reader.Field(e, "global_to_local", where);
-    const std::string sw = where + ".global_to_local";
-    t.global_to_local.s = reader.Number(reader.Field(sim, "s", sw), sw + ".s");
-    if (!(t.global_to_local.s > 0.0)) reader.Fail(sw, "scale must be positive");
-    t.global_to_local.R = reader.Rotation(reader.Field(sim, "R", sw), sw + ".R");
-    t.global_to_local.t = reader.Numbers<3>(reader.Field(sim, "t", sw), sw + ".t");
-    triplets.push_back(std::move(t));
-  }
+  std::vector<LocalMotion> triplets;
+  for (size_t k = 0; k < entries.size(); ++k)
+    triplets.push_back(ReadMotionEntry(reader, tracks, entries[k], "triplets[" + std::to_string(k) + "]", 3));
   return triplets;
+}
+
+void WriteMotions(const fs::path& path, const Reconstruction& tracks, const WorkspaceMotions& motions) {
+  std::vector<json> entries;
+  for (const LocalMotion& m : motions.motions) entries.push_back(MotionEntry(m, tracks, path));
+  json start = json::array();
+  for (const auto& [id, pose] : motions.linearization_poses) {
+    json p = internal_workspace::PoseJson(pose);
+    p["image"] = NameOf(tracks, id, path);
+    p["image_id"] = id;
+    start.push_back(std::move(p));
+  }
+  const json header = {{"triplet_rotation_misfit", motions.triplet_rotation_misfit}, {"linearization_poses", start}};
+  WriteStringAtomically(path, Document(kMotionsFormat, "motions", entries, header));
+}
+
+WorkspaceMotions ReadMotions(const fs::path& path, const Reconstruction& tracks) {
+  const Reader reader(path, tracks);
+  const json doc = reader.LoadDocument(kMotionsFormat, "motions");
+  WorkspaceMotions out;
+  const json& entries = doc["motions"];
+  for (size_t k = 0; k < entries.size(); ++k)
+    out.motions.push_back(ReadMotionEntry(reader, tracks, entries[k], "motions[" + std::to_string(k) + "]", 0));
+  out.triplet_rotation_misfit = reader.Number(reader.Field(doc, "triplet_rotation_misfit", ""), "triplet_rotation_misfit");
+  const json& start = reader.Field(doc, "linearization_poses", "");
+  if (!start.is_array()) reader.Fail("linearization_poses", "must be an array");
+  for (size_t k = 0; k < start.size(); ++k) {
+    const std::string where = "linearization_poses[" + std::to_string(k) + "]";
+    const uint32_t id = reader.Image(reader.Field(start[k], "image", where), reader.Field(start[k], "image_id", where), where);
+    if (!out.linearization_poses.emplace(id, reader.PoseOf(start[k], where)).second) reader.Fail(where, "repeated image");
+  }
+  return out;
 }
 
 }  // namespace pgba

@@ -29,9 +29,16 @@ const std::string& NameOf(const Reconstruction& tracks, uint32_t id, const fs::p
 }
 
 // "{header, "key": [\n entry,\n entry\n]}\n": one entry per line.
-std::string Document(const char* format, const char* key, const std::vector<json>& entries) {
+json PoseJson(const Pose& pose) {
+  const Eigen::Quaterniond& q = pose.q();
+  return {{"q", {q.w(), q.x(), q.y(), q.z()}}, {"t", Array(pose.t())}};
+}
+
+std::string Document(const char* format, const char* key, const std::vector<json>& entries, const json& header) {
   std::ostringstream out;
-  out << "{\"format\": \"" << format << "\", \"version\": " << kWorkspaceVersion << ", \"" << key << "\": [";
+  out << "{\"format\": \"" << format << "\", \"version\": " << kWorkspaceVersion;
+  for (const auto& [name, value] : header.items()) out << ", " << json(name).dump() << ": " << value.dump();
+  out << ", \"" << key << "\": [";
   for (size_t k = 0; k < entries.size(); ++k) out << (k ? ",\n" : "\n") << entries[k].dump();
   out << "\n]}\n";
   return out.str();
@@ -39,7 +46,9 @@ std::string Document(const char* format, const char* key, const std::vector<json
 
 }  // namespace internal_workspace
 
-json WorkspaceJsonReader::Load(const char* format, const char* key) const {
+json WorkspaceJsonReader::Load(const char* format, const char* key) const { return LoadDocument(format, key)[key]; }
+
+json WorkspaceJsonReader::LoadDocument(const char* format, const char* key) const {
   const json doc = Parse();
   if (!doc.is_object()) Fail("", "not a JSON object");
   if (!doc.contains("format") || doc["format"] != format)
@@ -49,7 +58,13 @@ json WorkspaceJsonReader::Load(const char* format, const char* key) const {
     Fail("", "workspace version " + doc["version"].dump() + ", this build reads version " +
                  std::to_string(kWorkspaceVersion) + " (re-run the stage)");
   if (!doc.contains(key) || !doc[key].is_array()) Fail("", std::string("missing array \"") + key + "\"");
-  return doc[key];
+  return doc;
+}
+
+Pose WorkspaceJsonReader::PoseOf(const json& j, const std::string& where) const {
+  const Eigen::Vector4d q = Numbers<4>(Field(j, "q", where), where + ".q");
+  if (!(q.norm() > 0.5 && q.norm() < 2.0)) Fail(where, "quaternion is not unit");
+  return Pose::FromQt(Eigen::Quaterniond(q(0), q(1), q(2), q(3)), Numbers<3>(Field(j, "t", where), where + ".t"));
 }
 
 Eigen::Matrix3d WorkspaceJsonReader::Rotation(const json& j, const std::string& where) const {
