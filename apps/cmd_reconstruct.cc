@@ -1,11 +1,12 @@
 // pgba reconstruct --tracks INPUT --out OUT [--config F] [--workspace WS] [--gcp GCP_FILE]
 //
 // From tracks (a COLMAP text model whose poses and points are ignored) to the final poses:
-// global initialisation, local hessian BA per triplet, pointless global BA. Writes
-// OUT/sparse/ (COLMAP text model), OUT/points.ply, OUT/report.json and the workspace files
-// (OUT/pairs.json, OUT/triplets.json, OUT/init/, OUT/local_hessians.json). With --workspace
-// WS the initialisation (and the local hessians, if stored) are read from WS instead. With --gcp, the result is in the
-// GCP frame (the GCP file format: src/pgba/io/gcp_file.h).
+// PointlessMapper::Solve (global initialisation, relative motions and their local Hessians,
+// pointless global BA). Writes OUT/sparse/ (COLMAP text model), OUT/points.ply,
+// OUT/report.json and the workspace files (OUT/pairs.json, OUT/triplets.json, OUT/init/,
+// OUT/motions.json, OUT/local_hessians.json). With --workspace WS the initialisation (and the
+// motions with their local Hessians, if stored) are read from WS instead. With --gcp, the
+// result is in the GCP frame (the GCP file format: src/pgba/io/gcp_file.h).
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -34,7 +35,7 @@ void RegisterReconstruct(CLI::App& app) {
   sub->add_option("--config", args->config, "JSON config (sections of init plus local_hessian, global_ba)");
   sub->add_option("--workspace", args->workspace,
                   "Continue from this workspace of `init` or `reconstruct` (its triplets, initial poses and, "
-                  "where present, local_hessians.json) instead of re-running the initialisation");
+                  "where present, motions.json and local_hessians.json) instead of re-running the initialisation");
   sub->add_option("--gcp", args->gcp, "Ground control points (GCP/OBS lines): the result is put in their frame");
 
   AddCommand(app, sub, [args] {
