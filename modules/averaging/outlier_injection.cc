@@ -5,6 +5,7 @@
 #include <numeric>
 #include <random>
 
+#include "pgba/io/option_ranges.h"
 #include "pgba/geometry/rotation.h"
 #include "pgba/util/error.h"
 
@@ -78,6 +79,11 @@ OutlierInjectionResult InjectRotationOutliers(const OutlierInjectionOptions& opt
     }
   }
   return result;
+}
+
+std::string OutlierInjectionOptions::Check() const {
+  if (const std::string m = CheckRanges(*this, "global_init.outliers"); !m.empty()) return m;
+  return "";
 }
 
 }  // namespace pgba

@@ -15,6 +15,7 @@ std::string GlobalMapperOptions::Check() const {
   if (const std::string p = pairs.Check(); !p.empty()) return "pairs." + p;
   if (const std::string p = calibration.Check(); !p.empty()) return "calibration." + p;
   if (const std::string p = triplets.Check(); !p.empty()) return "triplets." + p;
+  if (const std::string p = global_init.Check(); !p.empty()) return "global_init." + p;
   return "";
 }
 
