@@ -179,17 +179,20 @@ RoundSummary SolveRoundByBlocks(const GlobalBAOptions& options, int round, bool 
   };
   const MotionBlockSummary s = SolveMotionBlocks(problem, options.solver, report);
   for (auto& [id, block] : u->intrinsics) block.x = intrinsics[intrinsic_index.at(id)];
-  RoundSummary out{!s.usable, s.message, s.initial_cost, s.final_cost, s.iterations};
-  out.intrinsics_inverse_hessian = s.intrinsics_inverse_hessian;
-  out.final_radius = s.final_radius;
-  return out;
+  return {!s.usable, s.message, s.initial_cost, s.final_cost, s.iterations, s.intrinsics_inverse_hessian,
+          s.final_radius};
 }
 
 RoundSummary SolveRoundByCeres(const GlobalBAOptions& options, double sigma, int round, bool report_start,
                                Unknowns* u, GlobalBASummary* summary, const GlobalBAIterationCallback& callback) {
   const ceres::Solver::Summary s = SolveRound(options, sigma, round, report_start, u, summary, callback);
-  return {s.termination_type == ceres::FAILURE, s.message, s.initial_cost, s.final_cost,
-          static_cast<int>(s.iterations.size()) - 1};
+  return {s.termination_type == ceres::FAILURE,
+          s.message,
+          s.initial_cost,
+          s.final_cost,
+          static_cast<int>(s.iterations.size()) - 1,
+          Eigen::MatrixXd(),  // no intrinsics covariance from this path
+          0.0};
 }
 
 }  // namespace pgba::internal
