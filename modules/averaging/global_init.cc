@@ -4,6 +4,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "pgba/io/option_ranges.h"
 #include "averaging/connectivity.h"
 #include "averaging/relative_rotations.h"
 #include "averaging/similarity.h"
@@ -303,6 +304,13 @@ nlohmann::json GlobalInitReport(const GlobalInitResult& result) {
                             {"final_rms_px", s.track_positioning.final_rms_px},
                             {"seconds", s.track_positioning.seconds}};
   return j;
+}
+
+std::string GlobalInitOptions::Check() const {
+  if (const std::string m = CheckRanges(*this, "global_init"); !m.empty()) return m;
+  // Cross-field rules of the parts (the ranges of every part are checked above).
+  if (const std::string p = rotation.Check(); !p.empty()) return "rotation." + p;
+  return "";
 }
 
 }  // namespace pgba

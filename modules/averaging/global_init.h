@@ -49,6 +49,9 @@ struct GlobalInitOptions {
   // A triplet is dropped at the end if its centres misfit its similarity by more than this
   // fraction of its local size (RMS); <= 0 keeps every triplet.
   double max_triplet_centre_error = 0.1;
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(GlobalInitOptions, pair_validation, rotation, translation,
                                                 track_positioning, max_triplet_rotation_error_deg, max_triplet_centre_error)

@@ -5,6 +5,7 @@
 #include <numeric>
 #include <random>
 
+#include "pgba/io/option_ranges.h"
 #include "pgba/geometry/rotation.h"
 #include "pgba/util/error.h"
 
@@ -88,6 +89,11 @@ CorruptedRelativeMotions CorruptRelativeMotions(const OutlierInjectionOptions& o
   out.injected = InjectRotationOutliers(options, &out.pairs, local ? &out.triplets : &out.rotation_measurements);
   if (local) out.rotation_measurements = out.triplets;
   return out;
+}
+
+std::string OutlierInjectionOptions::Check() const {
+  if (const std::string m = CheckRanges(*this, "OutlierInjectionOptions"); !m.empty()) return m;
+  return "";
 }
 
 }  // namespace pgba

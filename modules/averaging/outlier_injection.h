@@ -45,6 +45,9 @@ struct OutlierInjectionOptions {
   // the rotation measurements only in the relative_rotations case.
   TripletCorruption triplet_corruption = TripletCorruption::kRelativeRotations;
   uint64_t seed = 1;
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
 void to_json(nlohmann::json& j, const OutlierTarget& target);
 void from_json(const nlohmann::json& j, OutlierTarget& target);  // json type_error if unknown

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 
+#include "pgba/io/option_ranges.h"
 #include "pgba/geometry/rotation.h"
 #include "pgba/util/upper_median.h"
 
@@ -75,6 +76,11 @@ std::vector<TwoViewGeometry> PairsConsistentWithTriplets(const std::vector<TwoVi
     }
   }
   return kept;
+}
+
+std::string PairValidationOptions::Check() const {
+  if (const std::string m = CheckRanges(*this, "global_init.pair_validation"); !m.empty()) return m;
+  return "";
 }
 
 }  // namespace pgba

@@ -16,6 +16,8 @@
 // triplets alone (the triplets connect every image that will be registered).
 #pragma once
 
+#include <string>
+
 #include <Eigen/Core>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -35,6 +37,9 @@ struct PairValidationOptions {
   // degrees in rotation and ~10-90 degrees in direction.
   double max_rotation_deg = 1.0;
   double max_direction_deg = 15.0;
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(PairValidationOptions, enabled, max_rotation_deg,
                                                 max_direction_deg)

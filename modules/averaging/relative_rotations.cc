@@ -1,5 +1,6 @@
 #include "averaging/relative_rotations.h"
 
+#include "pgba/io/option_ranges.h"
 #include "averaging/connectivity.h"
 
 namespace pgba {
@@ -40,6 +41,11 @@ std::vector<RelativeRotation> CollectRelativeRotations(const std::vector<TwoView
     }
   }
   return out;
+}
+
+std::string RelativeRotationOptions::Check() const {
+  if (const std::string m = CheckRanges(*this, "global_init.rotation.observations"); !m.empty()) return m;
+  return "";
 }
 
 }  // namespace pgba

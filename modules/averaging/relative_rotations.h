@@ -2,6 +2,8 @@
 // pairs and from the triplets' local poses.
 #pragma once
 
+#include <string>
+
 #include <Eigen/Core>
 #include <cstdint>
 #include <nlohmann/json.hpp>
@@ -39,6 +41,9 @@ struct RelativeRotationOptions {
   // it: a triplet carries only two independent relative rotations, the third closes the
   // cycle). Triplets come out of a three-view BA and are usually more accurate than pairs.
   double triplet_weight = 1.0;
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(RelativeRotationOptions, use_pairs, use_triplets, pair_weight,
                                                 triplet_weight)

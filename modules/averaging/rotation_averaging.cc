@@ -7,6 +7,7 @@
 #include <map>
 #include <queue>
 
+#include "pgba/io/option_ranges.h"
 #include "averaging/connectivity.h"
 #include "averaging/difference_system.h"
 #include "pgba/geometry/rotation.h"
@@ -205,7 +206,7 @@ bool SolveLinearisedL1(const Graph& g, const Eigen::MatrixXd& e, int inner, doub
   for (int it = 0; it < inner; ++it) {
     for (size_t k = 0; k < g.i.size(); ++k) {
       const double r = (e.row(k) - (x->row(g.j[k]) - x->row(g.i[k]))).norm();
-      w[k] = g.prior[k] * IrlsWeight(RobustLoss::kL1, r, scale);
+      w[k] = g.prior[k] * LossFunctionOptions{LossType::kL1, scale}.IrlsWeight(r);
     }
     if (!SolveDifferenceSystem(n, Edges(g, w), e, gauge, x)) return false;
   }
@@ -215,15 +216,7 @@ bool SolveLinearisedL1(const Graph& g, const Eigen::MatrixXd& e, int inner, doub
 }  // namespace
 
 void ValidateRotationAveragingOptions(const RotationAveragingOptions& o) {
-  auto bad = [](const std::string& what) { throw InputError("rotation averaging options: " + what); };
-  if (!(o.loss_scale_deg > 0)) bad("loss_scale_deg must be > 0");
-  if (!(o.step_tolerance_deg > 0) || !(o.l1_step_tolerance_deg > 0)) bad("step tolerances must be > 0");
-  if (o.max_l1_iterations < 0 || o.l1_inner_iterations < 1 || o.max_irls_iterations < 0)
-    bad("iteration counts must be >= 0 (l1_inner_iterations >= 1)");
-  if (!(o.observations.pair_weight >= 0) || !(o.observations.triplet_weight >= 0))
-    bad("observation weights must be >= 0");
-  if (!(o.init_consistency_deg > 0) || !(o.inlier_threshold_deg > 0))
-    bad("init_consistency_deg and inlier_threshold_deg must be > 0");
+  if (const std::string m = o.Check(); !m.empty()) throw InputError("rotation averaging options: " + m);
 }
 
 double RelativeRotationResidualDeg(const RelativeRotation& o, const std::map<uint32_t, Eigen::Matrix3d>& rotations) {
@@ -267,7 +260,7 @@ bool AverageRotations(const std::vector<RelativeRotation>& observations, const R
     }
   }
 
-  const double scale = options.loss_scale_deg * kDeg;
+  const double scale = options.loss.scale * kDeg;
   Eigen::MatrixXd x;
   // Stage 2: L1.
   for (int it = 0; it < options.max_l1_iterations; ++it) {
@@ -283,7 +276,7 @@ bool AverageRotations(const std::vector<RelativeRotation>& observations, const R
     for (int it = 0; it < options.max_irls_iterations; ++it) {
       const Eigen::MatrixXd e = Residuals(graph, *rot);
       for (size_t k = 0; k < graph.i.size(); ++k)
-        w[k] = graph.prior[k] * IrlsWeight(options.loss, e.row(k).norm(), scale);
+        w[k] = graph.prior[k] * LossFunctionOptions{options.loss.type, scale}.IrlsWeight(e.row(k).norm());
       if (!SolveDifferenceSystem(static_cast<int>(graph.ids.size()), Edges(graph, w), e, root, &x)) return false;
       ++summary.irls_iterations;
       summary.last_step_deg = ApplyUpdate(x, rot) / kDeg;
@@ -350,6 +343,11 @@ bool AverageRotations(const std::vector<RelativeRotation>& observations, const R
                 << summary.num_outliers << " outliers" << (options.exclude_outliers ? " excluded" : "")
                 << ", median residual " << summary.residual_median_deg << " deg";
   return finish(true, summary.converged ? "converged" : "iteration limit reached");
+}
+
+std::string RotationAveragingOptions::Check() const {
+  if (const std::string m = CheckRanges(*this, "global_init.rotation"); !m.empty()) return m;
+  return "";
 }
 
 }  // namespace pgba

@@ -34,7 +34,8 @@
 #include <vector>
 
 #include "averaging/relative_rotations.h"
-#include "averaging/robust_loss.h"
+#include "pgba/optim/loss_function_options.h"
+#include "pgba/util/json_fields.h"
 
 namespace pgba {
 
@@ -51,9 +52,9 @@ struct RotationAveragingOptions {
   int max_l1_iterations = 5;
   int l1_inner_iterations = 10;
   double l1_step_tolerance_deg = 1e-3;
-  // Robust loss of the IRLS stage and its scale (degrees).
-  RobustLoss loss = RobustLoss::kGemanMcClure;
-  double loss_scale_deg = 5.0;
+  // Robust loss of the IRLS stage and its scale in degrees (config keys "loss",
+  // "loss_scale_deg"; the IRLS takes it in radians).
+  LossFunctionOptions loss = {LossType::kGemanMcClure, 5.0};
   // IRLS stops after this many iterations or when the largest update is below the
   // tolerance (degrees).
   int max_irls_iterations = 100;
@@ -62,11 +63,26 @@ struct RotationAveragingOptions {
   // if exclude_outliers, otherwise only counted in the summary.
   double inlier_threshold_deg = 5.0;
   bool exclude_outliers = true;
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(RotationAveragingOptions, observations, spanning_tree_init,
-                                                init_consistency_deg, max_l1_iterations, l1_inner_iterations, l1_step_tolerance_deg,
-                                                loss, loss_scale_deg, max_irls_iterations, step_tolerance_deg,
-                                                inlier_threshold_deg, exclude_outliers)
+template <class Visit>
+void JsonFields(RotationAveragingOptions& o, Visit&& visit) {
+  visit("observations", o.observations);
+  visit("spanning_tree_init", o.spanning_tree_init);
+  visit("init_consistency_deg", o.init_consistency_deg);
+  visit("max_l1_iterations", o.max_l1_iterations);
+  visit("l1_inner_iterations", o.l1_inner_iterations);
+  visit("l1_step_tolerance_deg", o.l1_step_tolerance_deg);
+  visit("loss", o.loss.type);
+  visit("loss_scale_deg", o.loss.scale);
+  visit("max_irls_iterations", o.max_irls_iterations);
+  visit("step_tolerance_deg", o.step_tolerance_deg);
+  visit("inlier_threshold_deg", o.inlier_threshold_deg);
+  visit("exclude_outliers", o.exclude_outliers);
+}
+PGBA_JSON_FROM_FIELDS(RotationAveragingOptions)
 
 struct RotationAveragingSummary {
   bool success = false;

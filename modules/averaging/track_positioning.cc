@@ -4,9 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <thread>
+#include <memory>
 #include <vector>
 
+#include "pgba/io/option_ranges.h"
+#include "pgba/optim/ceres_solver_options.h"
 #include "pgba/scene/camera.h"
 #include "pgba/scene/triangulate_model.h"
 #include "pgba/util/error.h"
@@ -46,10 +48,7 @@ double Spread(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::V
 }  // namespace
 
 void ValidateTrackPositioningOptions(const TrackPositioningOptions& o) {
-  auto bad = [](const std::string& what) { throw InputError("track positioning options: " + what); };
-  if (!(o.loss_scale_px > 0)) bad("loss_scale_px must be > 0");
-  if (!(o.min_track_angle_deg >= 0)) bad("min_track_angle_deg must be >= 0");
-  if (o.max_iterations < 0 || o.num_threads < 0) bad("max_iterations and num_threads must be >= 0");
+  if (const std::string m = o.Check(); !m.empty()) throw InputError("track positioning options: " + m);
 }
 
 bool PositionOnTracks(const Reconstruction& tracks, const std::vector<LocalMotion>& triplets,
@@ -82,7 +81,7 @@ bool PositionOnTracks(const Reconstruction& tracks, const std::vector<LocalMotio
   ceres::Problem::Options problem_options;
   problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   ceres::Problem problem(problem_options);
-  ceres::CauchyLoss loss(options.loss_scale_px);
+  const std::unique_ptr<ceres::LossFunction> loss(options.loss.CreateLossFunction());
   std::vector<ceres::ResidualBlockId> blocks;
   for (const auto& [pid, point] : model.points3D) {
     int seen = 0;
@@ -97,7 +96,7 @@ bool PositionOnTracks(const Reconstruction& tracks, const std::vector<LocalMotio
       const Camera& camera = tracks.CameraOf(image);
       auto* cost = new ceres::AutoDiffCostFunction<FixedRotationReprojection, 2, 3, 3>(new FixedRotationReprojection{
           pose->second.R(), image.points2D.at(e.point2D_idx).xy, camera.model, camera.params.data()});
-      blocks.push_back(problem.AddResidualBlock(cost, &loss, C.at(e.image_id).data(), xyz.data()));
+      blocks.push_back(problem.AddResidualBlock(cost, loss.get(), C.at(e.image_id).data(), xyz.data()));
       ++observations_per_image[e.image_id];
     }
   }
@@ -135,19 +134,13 @@ bool PositionOnTracks(const Reconstruction& tracks, const std::vector<LocalMotio
   };
   summary.initial_rms_px = inlier_rms();
 
-  ceres::Solver::Options solver;
-  solver.linear_solver_type = ceres::SPARSE_SCHUR;
+  ceres::Solver::Options solver = CeresSolverOptions(options.solver);
   auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
   for (Eigen::Vector3d& xyz : X)
     if (problem.HasParameterBlock(xyz.data())) ordering->AddElementToGroup(xyz.data(), 0);
   for (auto& [id, c] : C)
     if (problem.HasParameterBlock(c.data())) ordering->AddElementToGroup(c.data(), 1);
   solver.linear_solver_ordering = ordering;
-  solver.max_num_iterations = options.max_iterations;
-  solver.num_threads = options.num_threads > 0 ? options.num_threads : std::max(1u, std::thread::hardware_concurrency());
-  solver.function_tolerance = 1e-8;
-  solver.parameter_tolerance = 1e-10;
-  solver.logging_type = ceres::SILENT;
   ceres::Solver::Summary result;
   ceres::Solve(solver, &problem, &result);
   summary.iterations = static_cast<int>(result.iterations.size());
@@ -174,6 +167,11 @@ bool PositionOnTracks(const Reconstruction& tracks, const std::vector<LocalMotio
                 << " observations, " << summary.iterations << " iterations, reprojection RMS (< 4 px) "
                 << summary.initial_rms_px << " -> " << summary.final_rms_px << " px";
   return finish(true, "ok");
+}
+
+std::string TrackPositioningOptions::Check() const {
+  if (const std::string m = CheckRanges(*this, "global_init.track_positioning"); !m.empty()) return m;
+  return "";
 }
 
 }  // namespace pgba

@@ -31,8 +31,11 @@
 #include <vector>
 
 #include "pgba/geometry/pose.h"
+#include "pgba/optim/loss_function_options.h"
+#include "pgba/optim/solver_options.h"
 #include "pgba/scene/reconstruction.h"
 #include "pgba/scene/view_graph.h"
+#include "pgba/util/json_fields.h"
 
 namespace pgba {
 
@@ -44,16 +47,33 @@ struct TrackPositioningOptions {
   // BA improves the initial sigma by 10% (aerial 24: 0.4935 initial, 0.4930 final with it).
   // Turn on with {"global_init": {"track_positioning": {"enabled": true}}}.
   bool enabled = false;
-  // Scale of the Cauchy loss on the reprojection error, pixels.
-  double loss_scale_px = 2.0;
+  // Cauchy loss on the reprojection error, scale 2 px (config key "loss_scale_px").
+  LossFunctionOptions loss = {LossType::kCauchy, 2.0};
   // Tracks whose rays meet at less than this (degrees) are not used (depth unobservable).
   double min_track_angle_deg = 0.25;
-  int max_iterations = 50;
-  // Ceres threads; 1 keeps the result bit-identical from run to run.
-  int num_threads = 1;
+  // Sparse Schur on the points; at most 50 iterations ("max_iterations"), function tolerance
+  // 1e-8, parameter tolerance 1e-10; 1 Ceres thread ("num_threads"; 1 keeps the result
+  // bit-identical from run to run, 0 = all hardware threads).
+  SolverOptions solver = [] {
+    SolverOptions s;
+    s.linear_solver_type = ceres::SPARSE_SCHUR;
+    s.function_tolerance = 1e-8;
+    s.parameter_tolerance = 1e-10;
+    return s;
+  }();
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(TrackPositioningOptions, enabled, loss_scale_px,
-                                                min_track_angle_deg, max_iterations, num_threads)
+template <class Visit>
+void JsonFields(TrackPositioningOptions& o, Visit&& visit) {
+  visit("enabled", o.enabled);
+  visit("loss_scale_px", o.loss.scale);
+  visit("min_track_angle_deg", o.min_track_angle_deg);
+  visit("max_iterations", o.solver.max_iterations);
+  visit("num_threads", o.solver.num_threads);
+}
+PGBA_JSON_FROM_FIELDS(TrackPositioningOptions)
 
 struct TrackPositioningSummary {
   bool ran = false;        // false: disabled or nothing to do (no tracks on the posed images)

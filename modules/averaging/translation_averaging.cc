@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "pgba/io/option_ranges.h"
 #include "averaging/connectivity.h"
 #include "averaging/difference_system.h"
 #include "averaging/similarity.h"
@@ -41,7 +42,7 @@ bool SolveTripletSizes(const std::vector<TripletBaseline>& baselines, int num_tr
   for (int it = 0; it < options.max_irls_iterations; ++it) {
     for (size_t e = 0; e < edges.size(); ++e) {
       const double r = obs[e] - (x(edges[e].j, 0) - x(edges[e].i, 0));
-      edges[e].weight = prior[e] * IrlsWeight(options.scale_loss, r, options.scale_loss_scale);
+      edges[e].weight = prior[e] * options.scale_loss.IrlsWeight(r);
     }
     if (!SolveDifferenceSystem(num_nodes, edges, b, 0, &x_new)) return false;
     const double change = (x_new - x).cwiseAbs().maxCoeff();
@@ -82,7 +83,7 @@ bool SolveCentres(const std::vector<TripletBaseline>& baselines, int num_nodes, 
   for (int it = 0; it < std::max(1, options.max_irls_iterations); ++it) {
     for (size_t k = 0; k < baselines.size(); ++k) {
       const double s = S[baselines[k].triplet];
-      edges[k].weight = IrlsWeight(options.centre_loss, r[k], options.centre_loss_scale) / (s * s);
+      edges[k].weight = options.centre_loss.IrlsWeight(r[k]) / (s * s);
     }
     if (!SolveDifferenceSystem(num_nodes, edges, b, 0, &C_new)) return false;
     ++summary->centre_iterations;
@@ -99,12 +100,7 @@ bool SolveCentres(const std::vector<TripletBaseline>& baselines, int num_nodes, 
 }  // namespace
 
 void ValidateTranslationAveragingOptions(const TranslationAveragingOptions& o) {
-  auto bad = [](const std::string& what) { throw InputError("translation averaging options: " + what); };
-  if (!(o.scale_loss_scale > 0) || !(o.centre_loss_scale > 0) || !(o.refine_huber > 0))
-    bad("loss scales must be > 0");
-  if (o.max_irls_iterations < 1 || o.max_refine_iterations < 0) bad("iteration counts must be positive");
-  if (!(o.irls_tolerance > 0)) bad("irls_tolerance must be > 0");
-  if (!(o.pair_weight >= 0) || !(o.triplet_weight > 0)) bad("weights must be positive");
+  if (const std::string m = o.Check(); !m.empty()) throw InputError("translation averaging options: " + m);
 }
 
 bool AverageTranslations(const std::vector<LocalMotion>& triplets, const std::vector<TwoViewGeometry>& pairs,
@@ -203,6 +199,11 @@ bool AverageTranslations(const std::vector<LocalMotion>& triplets, const std::ve
   PGBA_LOG_INFO << "translation averaging: " << ids.size() << " images, " << num_triplets << " triplets, "
                 << summary.num_pairs << " pair directions, median relative residual " << summary.residual_median_rel;
   return finish(true, "ok");
+}
+
+std::string TranslationAveragingOptions::Check() const {
+  if (const std::string m = CheckRanges(*this, "global_init.translation"); !m.empty()) return m;
+  return "";
 }
 
 }  // namespace pgba

@@ -43,18 +43,20 @@
 #include <string>
 #include <vector>
 
-#include "averaging/robust_loss.h"
+#include "pgba/optim/loss_function_options.h"
+#include "pgba/optim/solver_options.h"
 #include "pgba/scene/view_graph.h"
+#include "pgba/util/json_fields.h"
 
 namespace pgba {
 
 struct TranslationAveragingOptions {
-  // Step 1: robust loss of the log-scale residuals (dimensionless, 0.05 ~ 5%).
-  RobustLoss scale_loss = RobustLoss::kHuber;
-  double scale_loss_scale = 0.05;
-  // Step 2: robust loss of the centre residuals relative to the triplet size.
-  RobustLoss centre_loss = RobustLoss::kHuber;
-  double centre_loss_scale = 0.02;
+  // Step 1: robust loss of the log-scale residuals (dimensionless, 0.05 ~ 5%). Config keys
+  // "scale_loss" and "scale_loss_scale".
+  LossFunctionOptions scale_loss = {LossType::kHuber, 0.05};
+  // Step 2: robust loss of the centre residuals relative to the triplet size ("centre_loss",
+  // "centre_loss_scale").
+  LossFunctionOptions centre_loss = {LossType::kHuber, 0.02};
   // IRLS of steps 1 and 2 stops after this many iterations or when the largest change is
   // below this tolerance (relative to the triplet sizes / in log units). The cap is low on
   // purpose: in the linear regime of the loss IRLS converges slowly, and what still moves
@@ -68,16 +70,42 @@ struct TranslationAveragingOptions {
   bool use_pair_directions = true;
   double pair_weight = 1.0;
   double triplet_weight = 1.0;
-  double refine_huber = 0.1;
-  int max_refine_iterations = 100;
-  // Ceres threads; 1 keeps the result bit-identical from run to run.
-  int num_threads = 1;
+  // Huber loss of the refinement ("refine_huber": 0.1 of the baseline ~ 6 degrees).
+  LossFunctionOptions refine_loss = {LossType::kHuber, 0.1};
+  // The refinement's solver: sparse Schur on Eigen's (single-threaded) sparse Cholesky, the
+  // inverse scales eliminated first; at most 100 iterations ("max_refine_iterations"),
+  // function and parameter tolerance 1e-8, 1 Ceres thread ("num_threads"; 1 keeps the result
+  // bit-identical from run to run, 0 = all hardware threads).
+  SolverOptions refine_solver = [] {
+    SolverOptions s;
+    s.linear_solver_type = ceres::SPARSE_SCHUR;
+    s.eigen_sparse = true;
+    s.max_iterations = 100;
+    s.function_tolerance = 1e-8;
+    s.parameter_tolerance = 1e-8;
+    return s;
+  }();
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(TranslationAveragingOptions, scale_loss, scale_loss_scale,
-                                                centre_loss, centre_loss_scale,
-                                                max_irls_iterations, irls_tolerance, refine, use_pair_directions,
-                                                pair_weight, triplet_weight, refine_huber, max_refine_iterations,
-                                                num_threads)
+template <class Visit>
+void JsonFields(TranslationAveragingOptions& o, Visit&& visit) {
+  visit("scale_loss", o.scale_loss.type);
+  visit("scale_loss_scale", o.scale_loss.scale);
+  visit("centre_loss", o.centre_loss.type);
+  visit("centre_loss_scale", o.centre_loss.scale);
+  visit("max_irls_iterations", o.max_irls_iterations);
+  visit("irls_tolerance", o.irls_tolerance);
+  visit("refine", o.refine);
+  visit("use_pair_directions", o.use_pair_directions);
+  visit("pair_weight", o.pair_weight);
+  visit("triplet_weight", o.triplet_weight);
+  visit("refine_huber", o.refine_loss.scale);
+  visit("max_refine_iterations", o.refine_solver.max_iterations);
+  visit("num_threads", o.refine_solver.num_threads);
+}
+PGBA_JSON_FROM_FIELDS(TranslationAveragingOptions)
 
 struct TranslationAveragingSummary {
   bool success = false;

@@ -2,6 +2,8 @@
 
 #include <ceres/ceres.h>
 
+#include "pgba/optim/ceres_solver_options.h"
+
 #include <algorithm>
 
 namespace pgba {
@@ -44,7 +46,7 @@ int RefineCentres(const std::vector<TripletBaseline>& baselines, const std::vect
   problem_options.loss_function_ownership = ceres::TAKE_OWNERSHIP;
   ceres::Problem problem(problem_options);
   auto loss = [&](double weight) {
-    return new ceres::ScaledLoss(new ceres::HuberLoss(options.refine_huber), weight, ceres::TAKE_OWNERSHIP);
+    return new ceres::ScaledLoss(options.refine_loss.CreateLossFunction(), weight, ceres::TAKE_OWNERSHIP);
   };
   for (const TripletBaseline& b : baselines)
     problem.AddResidualBlock(ScaledBaselineError::Create(b.v), loss(options.triplet_weight), C[b.a].data(),
@@ -66,11 +68,9 @@ int RefineCentres(const std::vector<TripletBaseline>& baselines, const std::vect
   if (problem.HasParameterBlock(C[fixed_node].data())) problem.SetParameterBlockConstant(C[fixed_node].data());
   if (problem.HasParameterBlock(&sigma[fixed_triplet])) problem.SetParameterBlockConstant(&sigma[fixed_triplet]);
 
-  ceres::Solver::Options solver_options;
   // The inverse scales are eliminated first (each touches two centres): the reduced system is
   // over the centres only. Eigen's sparse Cholesky is single-threaded, hence deterministic.
-  solver_options.linear_solver_type = ceres::SPARSE_SCHUR;
-  solver_options.sparse_linear_algebra_library_type = ceres::EIGEN_SPARSE;
+  ceres::Solver::Options solver_options = CeresSolverOptions(options.refine_solver);
   {
     auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
     for (double& s : inverse_scales)
@@ -79,11 +79,6 @@ int RefineCentres(const std::vector<TripletBaseline>& baselines, const std::vect
       if (problem.HasParameterBlock(c.data())) ordering->AddElementToGroup(c.data(), 1);
     solver_options.linear_solver_ordering = ordering;
   }
-  solver_options.max_num_iterations = options.max_refine_iterations;
-  solver_options.num_threads = std::max(1, options.num_threads);
-  solver_options.function_tolerance = 1e-8;
-  solver_options.parameter_tolerance = 1e-8;
-  solver_options.logging_type = ceres::SILENT;
   ceres::Solver::Summary summary;
   ceres::Solve(solver_options, &problem, &summary);
 

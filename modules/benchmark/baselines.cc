@@ -54,7 +54,7 @@ RefinementResult RefinePointBased(const Reconstruction& tracks, const std::map<u
   for (const auto& [id, f] : free) r.num_params += static_cast<int>(f.size());
   const bool two_passes = options.filter_max_error_px > 0;
   BundleAdjusterOptions first_pass = options.bundle;
-  if (two_passes && !options.first_pass_loss.empty()) first_pass.loss = options.first_pass_loss;
+  if (two_passes && !options.first_pass_loss.empty()) first_pass.loss.type = ParseLossType(options.first_pass_loss);
   Timer adjust;
   const BundleAdjustmentSummary first = BundleAdjust(problem, first_pass, &model);
   if (!first.usable) throw InputError("point-based BA: solver failure: " + first.message);

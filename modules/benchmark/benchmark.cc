@@ -6,6 +6,7 @@
 #include <limits>
 #include <set>
 
+#include "pgba/io/option_ranges.h"
 #include "benchmark/svg_plot.h"
 #include "averaging/outlier_injection.h"
 #include "pgba/io/report.h"
@@ -340,6 +341,13 @@ std::string OutlierSweepPlot(const BenchmarkResult& result) {
   o.y_label = "final sigma (px)";
   o.log_y = true;
   return LinePlotSvg({pl, av}, o);
+}
+
+std::string BenchmarkOptions::Check() const {
+  if (const std::string p = mapper.Check(); !p.empty()) return p;
+  if (const std::string p = refinement.Check(); !p.empty()) return p;
+  if (const std::string p = evaluation.Check(); !p.empty()) return "evaluation." + p;
+  return CheckRangesAt({{"outlier_sweep", outlier_sweep}}, "BenchmarkOptions");
 }
 
 }  // namespace pgba

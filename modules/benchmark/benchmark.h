@@ -35,6 +35,9 @@ struct BenchmarkOptions {
   std::vector<double> outlier_sweep;
   // Also run pointbased_split (pose_refinement.h): what the triplet structure costs.
   bool triplet_split = false;
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
 
 struct MethodOutcome {

@@ -1,5 +1,6 @@
 #include "benchmark/svg_plot.h"
 
+#include "pgba/io/option_ranges.h"
 #include "pgba/util/text_format.h"
 
 #include <algorithm>
@@ -108,6 +109,10 @@ std::string LinePlotSvg(const std::vector<PlotSeries>& series, const PlotOptions
   }
   svg << "</svg>\n";
   return svg.str();
+}
+
+std::string PlotOptions::Check() const {
+  return CheckRangesAt({{"width", width}, {"height", height}}, "PlotOptions");
 }
 
 }  // namespace pgba

@@ -22,6 +22,9 @@ struct PlotOptions {
   bool log_y = false;
   int width = 640;
   int height = 420;
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
 
 // The whole SVG document. Series with no drawable point are listed in the legend only.

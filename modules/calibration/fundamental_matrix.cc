@@ -7,6 +7,8 @@
 #include <opencv2/calib3d.hpp>
 #include <stdexcept>
 
+#include "pgba/io/option_ranges.h"
+
 namespace pgba {
 namespace {
 
@@ -55,12 +57,7 @@ Eigen::Matrix3d WeightedEightPoint(const std::vector<Eigen::Vector2d>& x1, const
 }  // namespace
 
 std::string FundamentalMatrixOptions::Check() const {
-  if (!(threshold_px > 0)) return "threshold_px must be > 0";
-  if (!(confidence > 0 && confidence < 1)) return "confidence must be in (0, 1)";
-  if (max_iterations < 1) return "max_iterations must be >= 1";
-  if (min_inliers < 8) return "min_inliers must be >= 8";
-  if (refine_iterations < 0) return "refine_iterations must be >= 0";
-  if (!(huber_px > 0)) return "huber_px must be > 0";
+  if (const std::string m = CheckRanges(*this, "calibration.fundamental"); !m.empty()) return m;
   return "";
 }
 

@@ -7,6 +7,7 @@
 #include <opencv2/calib3d.hpp>
 #include <stdexcept>
 
+#include "pgba/io/option_ranges.h"
 #include "modules/calibration/grid_search.h"
 #include "modules/calibration/radial_distortion_search.h"
 #include "modules/triplets/track_index.h"
@@ -151,19 +152,7 @@ double StandardDeviation(const Cost& cost, double x, int n) {
 }  // namespace
 
 std::string ViewGraphCalibrationOptions::Check() const {
-  const std::string f = fundamental.Check();
-  if (!f.empty()) return "fundamental." + f;
-  if (!(loss_scale > 0)) return "loss_scale must be > 0";
-  if (!(min_focal_ratio > 0 && min_focal_ratio < 1)) return "min_focal_ratio must be in (0, 1)";
-  if (!(max_focal_ratio > 1 && std::isfinite(max_focal_ratio))) return "max_focal_ratio must be a finite number > 1";
-  if (min_pairs < 2) return "min_pairs must be >= 2";
-  if (!(max_relative_sd > 0)) return "max_relative_sd must be > 0";
-  if (max_sweeps < 1) return "max_sweeps must be >= 1";
-  if (max_pairs_per_camera < 0) return "max_pairs_per_camera must be >= 0 (0 = all)";
-  if (!(max_abs_k1 > 0 && max_abs_k1 <= 1)) return "max_abs_k1 must be in (0, 1]";
-  if (!(max_homography_inlier_ratio > 0)) return "max_homography_inlier_ratio must be > 0 (>= 1: no test)";
-  if (!(rematch_shift_px >= 0 && std::isfinite(rematch_shift_px)))
-    return "rematch_shift_px must be a finite number >= 0 (0 = never)";
+  if (const std::string m = CheckRanges(*this, "calibration"); !m.empty()) return m;
   return "";
 }
 

@@ -105,4 +105,10 @@ void EvaluationMetrics::PrintTable(std::ostream& out) const {
   }
 }
 
+std::string EvaluationOptions::Check() const {
+  if (const std::string p = sigma.Check(); !p.empty()) return "sigma." + p;
+  if (const std::string p = ground_truth.Check(); !p.empty()) return "ground_truth." + p;
+  return "";
+}
+
 }  // namespace pgba

@@ -4,6 +4,8 @@
 // call Evaluate; the JSON key names are the report keys scripts read.
 #pragma once
 
+#include <string>
+
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <ostream>
@@ -19,6 +21,9 @@ namespace pgba {
 struct EvaluationOptions {
   SigmaOptions sigma;
   GroundTruthOptions ground_truth;
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(EvaluationOptions, sigma, ground_truth)
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <map>
 
+#include "pgba/io/option_ranges.h"
 #include "evaluation/statistics.h"
 #include "pgba/geometry/rotation.h"
 
@@ -144,6 +145,10 @@ GroundTruthErrors CompareToGroundTruth(const Reconstruction& model, const Recons
   out.center_err_rel_max = Max(out.center_err_rel);
   out.ok = true;
   return out;
+}
+
+std::string GroundTruthOptions::Check() const {
+  return CheckRanges(*this, "GroundTruthOptions");
 }
 
 }  // namespace pgba

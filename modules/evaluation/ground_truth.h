@@ -37,6 +37,9 @@ struct GroundTruthOptions {
   double outlier_factor = 5.0;
   // Re-alignment rounds.
   int max_rounds = 3;
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(GroundTruthOptions, outlier_factor, max_rounds)
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <vector>
 
+#include "pgba/io/option_ranges.h"
 #include "evaluation/statistics.h"
 #include "pgba/geometry/triangulation.h"
 
@@ -104,6 +105,10 @@ SigmaResult EvaluateSigma(const Reconstruction& obs, const PoseMap& poses, const
   if (out.num_observations > 0)
     out.inlier_fraction = static_cast<double>(out.num_inliers) / static_cast<double>(out.num_observations);
   return out;
+}
+
+std::string SigmaOptions::Check() const {
+  return CheckRanges(*this, "SigmaOptions");
 }
 
 }  // namespace pgba

@@ -14,6 +14,8 @@
 // every iteration without building a Reconstruction (the convergence curves of benchmark).
 #pragma once
 
+#include <string>
+
 #include <cstddef>
 #include <cstdint>
 #include <map>
@@ -31,6 +33,9 @@ struct SigmaOptions {
   double huber_px = 1.0;
   // Gauss-Newton iterations per track.
   int max_iterations = 10;
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(SigmaOptions, inlier_px, huber_px, max_iterations)
 

@@ -2,6 +2,7 @@
 
 #include <set>
 
+#include "pgba/io/option_ranges.h"
 #include "pgba/geometry/triangulation.h"
 #include "pgba/util/error.h"
 #include "pgba/util/logging.h"
@@ -63,6 +64,11 @@ std::optional<Eigen::Vector3d> TriangulateGcp(const GcpConstraint& gcp, const st
   const TriangulatedPoint p = TriangulateTrack(views, to);
   if (!p.ok) return std::nullopt;
   return p.X;
+}
+
+std::string GcpOptions::Check() const {
+  if (const std::string m = CheckRanges(*this, "gcp"); !m.empty()) return m;
+  return "";
 }
 
 }  // namespace pgba

@@ -36,6 +36,9 @@ struct GcpOptions {
   // A GCP is triangulated (in a triplet's local frame, or with the initial poses) only if
   // its rays span at least this angle (degrees); below it its depth is unobservable.
   double min_angle_deg = 1.0;
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(GcpOptions, default_sigma, huber_sigmas, min_angle_deg)
 

@@ -6,6 +6,7 @@
 #include <memory>
 #include <vector>
 
+#include "pgba/io/option_ranges.h"
 #include "modules/global_ba/gcp_terms.h"
 #include "modules/global_ba/global_ba_rounds.h"
 #include "modules/global_ba/global_ba_solve.h"
@@ -249,6 +250,11 @@ GlobalBAResult AveragingGlobalBA(const std::map<uint32_t, Pose>& initial_poses, 
   GlobalBAOptions scalar = options;
   scalar.weighting = TripletWeighting::kScalar;
   return internal::RunGlobalBA(initial_poses, motions, hessians, scalar, callback, gcps);
+}
+
+std::string GlobalBAOptions::Check() const {
+  if (const std::string m = CheckRanges(*this, "global_ba"); !m.empty()) return m;
+  return "";
 }
 
 }  // namespace pgba

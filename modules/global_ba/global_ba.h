@@ -17,10 +17,12 @@
 #include <vector>
 
 #include "modules/gcp/gcp_constraint.h"
+#include "modules/global_ba/motion_block_solver_options.h"
 #include "modules/local_hessian/local_hessian.h"
 #include "pgba/geometry/pose.h"
 #include "pgba/geometry/sim3.h"
 #include "pgba/scene/view_graph.h"
+#include "pgba/util/json_fields.h"
 
 namespace pgba {
 
@@ -59,29 +61,38 @@ struct GlobalBAOptions {
   SimilarityInit similarity_init = SimilarityInit::kFromPoses;
   // IRLS rounds (each a Ceres solve followed by re-weighting and re-linearisation).
   int max_rounds = 4;
-  // Levenberg-Marquardt iterations per round.
-  int max_iterations_per_round = 25;
   // Stop the rounds when a round lowers the cost by less than this fraction (rounds after
   // the first only polish the re-weighted fit: 0.4%, 0.07%, 0.02% on a 500-image block).
   double round_tolerance = 1e-3;
-  // Ceres convergence tolerances of each round: the point-based baseline's
-  // (BundleAdjusterOptions), so that the benchmark times both to the same stopping rule.
-  // Sigma is final after 2-3 iterations; tighter tolerances only add iterations.
-  double function_tolerance = 1e-6;
-  double parameter_tolerance = 1e-8;
-  // Levenberg-Marquardt's first trust region (damping diag(J^T J) / radius), both solvers.
-  // The motions' models are quadratic in the poses up to the rotations and similarities (gain
-  // ratio 1.000 at every step), so the solve starts near Gauss-Newton: from Ceres' 1e4 the
-  // damping held back the weak directions (the motions' scales) and the radius grew 3x per
-  // step, 7 + 5 iterations on a 70-image orbit where 1e8 takes 3 + 2 to the same optimum.
-  double initial_trust_region_radius = 1e8;
-  // Gauss-Newton iterations on each motion's similarity after every pose step of the
-  // motion-block solver, the poses held (variable projection in effect: why in
-  // motion_normal_equations.cc, OptimizeSimilarity). Measured on the long-focal loop seed 1,
-  // the last re-linearised solve: 0 crawled 25 iterations (the cap) at gain ratio ~0.63 along
-  // the scale valley, cost 875.6 -> 866.9 and still falling; 1 converged in 12 to 866.6.
-  // 0: the plain joint step.
-  int embedded_similarity_iterations = 1;
+  // Levenberg-Marquardt of each round, both solvers (the motion-block solver and Ceres'
+  // sparse Schur, motions eliminated first). Config keys:
+  //  - max_iterations_per_round (solver.max_iterations) 25;
+  //  - function_tolerance 1e-6, parameter_tolerance 1e-8: the point-based baseline's
+  //    (BundleAdjusterOptions), so that the benchmark times both to the same stopping rule.
+  //    Sigma is final after 2-3 iterations; tighter tolerances only add iterations.
+  //  - initial_trust_region_radius 1e8: the first damping diag(J^T J) / radius. The motions'
+  //    models are quadratic in the poses up to the rotations and similarities (gain ratio 1.000
+  //    at every step), so the solve starts near Gauss-Newton: from Ceres' 1e4 the damping held
+  //    back the weak directions (the motions' scales) and the radius grew 3x per step, 7 + 5
+  //    iterations on a 70-image orbit where 1e8 takes 3 + 2 to the same optimum.
+  //  - embedded_similarity_iterations 1: Gauss-Newton iterations on each motion's similarity
+  //    after every pose step of the motion-block solver, the poses held (variable projection
+  //    in effect: why in motion_normal_equations.cc, OptimizeSimilarity). Measured on the
+  //    long-focal loop seed 1, the last re-linearised solve: 0 crawled 25 iterations (the cap)
+  //    at gain ratio ~0.63 along the scale valley, cost 875.6 -> 866.9 and still falling; 1
+  //    converged in 12 to 866.6. 0: the plain joint step.
+  //  - num_threads 1 (Ceres threads): bit-identical results whatever the machine; more
+  //    threads make Ceres' reductions scheduling-dependent (last bits). 0 = hardware
+  //    concurrency.
+  // solver.stop_at_refused_step is no config key: the checked re-linearisation sets it.
+  MotionBlockSolverOptions solver = [] {
+    MotionBlockSolverOptions s;
+    s.linear_solver_type = ceres::SPARSE_SCHUR;
+    s.max_iterations = 25;
+    s.initial_trust_region_radius = 1e8;
+    s.embedded_similarity_iterations = 1;
+    return s;
+  }();
   // Fitting error of triplet s: e_s = |W_s (x_s - x0_s)| / n_s with n_s the residual norm of
   // a 1 px pixel error (sqrt(gamma/M) for kHessian, 1 for kScalar); robust scale sigma = the
   // median of e_s. IRLS weight w_s = 1 / (1 + (e_s / (irls_factor sigma))^2) (Cauchy);
@@ -94,9 +105,6 @@ struct GlobalBAOptions {
   // ratio matters: the robust scale normalises the rest.
   double scalar_rotation_sigma = 1e-3;
   double scalar_position_sigma = 1e-3;
-  // Ceres threads. 1 (default): bit-identical results whatever the machine; more threads
-  // make Ceres' reductions scheduling-dependent (last bits). 0 = hardware concurrency.
-  int num_threads = 1;
   // --- Re-linearisation of the local models (RelinearizedGlobalBA; pointless BA only) ---
   // Each h_s is the curvature of triplet s's cost at its own solution x0_s, and the global
   // cost uses it as an exact quadratic wherever the solution lands. When h_s is extremely
@@ -155,12 +163,6 @@ struct GlobalBAOptions {
   // ratio 0.919 -> 1.552 at 2 passes); 3 passes converge (the cost tolerance ends them; 5 stop
   // at 3 too): seeds 1-4 median 0.92-1.00x, max 0.89-0.99x.
   int max_relinearizations_far_start = 3;
-  // Not a config key: set by the checked re-linearisation for a solve it re-linearises next
-  // (MotionBlockSolverOptions::stop_at_refused_step; the motion-block solver only). Measured on
-  // the long-focal loop seed 1: the first whole-track solve took 2 steps, then 6 refused ones
-  // while the radius shrank from 3e8 to 151, then 6 more at gain ratios ~0.3, to a cost 5%
-  // lower (846 -> 806) that the next linearisation moves by 20x that.
-  bool stop_at_refused_step = false;
   // Damped outer loop of the checked re-linearisation (Levenberg-Marquardt across the passes):
   // a step that raises the true robust cost is solved again from the same linearisation as one
   // Levenberg-Marquardt step (damping diag(J^T J) / radius), the radius starting at
@@ -191,16 +193,40 @@ struct GlobalBAOptions {
   // along a direction its h hardly sees: focal against camera distance), along which the
   // re-triangulated true cost jumps (points dropping out) and then climbs far above them.
   int relinearize_robust_passes_self_calibrating = 0;
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(GlobalBAOptions, weighting, gauge, similarity_init, max_rounds,
-                                                max_iterations_per_round, round_tolerance, function_tolerance,
-                                                parameter_tolerance, initial_trust_region_radius, embedded_similarity_iterations, irls_factor, huber_factor,
-                                                scalar_rotation_sigma, scalar_position_sigma, num_threads,
-                                                max_relinearizations, relinearize_misfit, relinearize_tolerance,
-                                                relinearize_checked, relinearize_cost_tolerance,
-                                                relinearized_function_tolerance, max_relinearizations_self_calibrating,
-                                                max_relinearizations_far_start, relinearize_damped_steps,
-                                                relinearize_damping_radius, relinearize_robust_passes_self_calibrating)
+template <class Visit>
+void JsonFields(GlobalBAOptions& o, Visit&& visit) {
+  visit("weighting", o.weighting);
+  visit("gauge", o.gauge);
+  visit("similarity_init", o.similarity_init);
+  visit("max_rounds", o.max_rounds);
+  visit("max_iterations_per_round", o.solver.max_iterations);
+  visit("round_tolerance", o.round_tolerance);
+  visit("function_tolerance", o.solver.function_tolerance);
+  visit("parameter_tolerance", o.solver.parameter_tolerance);
+  visit("initial_trust_region_radius", o.solver.initial_trust_region_radius);
+  visit("embedded_similarity_iterations", o.solver.embedded_similarity_iterations);
+  visit("irls_factor", o.irls_factor);
+  visit("huber_factor", o.huber_factor);
+  visit("scalar_rotation_sigma", o.scalar_rotation_sigma);
+  visit("scalar_position_sigma", o.scalar_position_sigma);
+  visit("num_threads", o.solver.num_threads);
+  visit("max_relinearizations", o.max_relinearizations);
+  visit("relinearize_misfit", o.relinearize_misfit);
+  visit("relinearize_tolerance", o.relinearize_tolerance);
+  visit("relinearize_checked", o.relinearize_checked);
+  visit("relinearize_cost_tolerance", o.relinearize_cost_tolerance);
+  visit("relinearized_function_tolerance", o.relinearized_function_tolerance);
+  visit("max_relinearizations_self_calibrating", o.max_relinearizations_self_calibrating);
+  visit("max_relinearizations_far_start", o.max_relinearizations_far_start);
+  visit("relinearize_damped_steps", o.relinearize_damped_steps);
+  visit("relinearize_damping_radius", o.relinearize_damping_radius);
+  visit("relinearize_robust_passes_self_calibrating", o.relinearize_robust_passes_self_calibrating);
+}
+PGBA_JSON_FROM_FIELDS(GlobalBAOptions)
 
 // State handed to the iteration callback after every Levenberg-Marquardt iteration (and
 // once before the first, iteration 0): e.g. to evaluate sigma for a convergence curve.

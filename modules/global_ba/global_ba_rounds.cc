@@ -4,11 +4,12 @@
 
 #include <algorithm>
 #include <memory>
-#include <thread>
 #include <vector>
 
 #include "modules/global_ba/gcp_residual.h"
 #include "modules/global_ba/motion_normal_equations.h"
+#include "pgba/optim/ceres_solver_options.h"
+#include "pgba/optim/loss_function_options.h"
 
 namespace pgba::internal {
 
@@ -84,7 +85,9 @@ ceres::Solver::Summary SolveRound(const GlobalBAOptions& options, double sigma, 
     problem.AddParameterBlock(t.sim.x.data(), 7);
     ordering->AddElementToGroup(t.sim.x.data(), 0);  // eliminated first (Schur)
     ceres::LossFunction* huber =
-        options.huber_factor > 0 && sigma > 0 ? new ceres::HuberLoss(options.huber_factor * sigma * t.unit) : nullptr;
+        options.huber_factor > 0 && sigma > 0
+            ? LossFunctionOptions{LossType::kHuber, options.huber_factor * sigma * t.unit}.CreateLossFunction()
+            : nullptr;
     ceres::LossFunction* loss = new ceres::ScaledLoss(huber, t.irls_weight, ceres::TAKE_OWNERSHIP);
     std::vector<double*> blocks = PoseBlocksOf(*u, t);
     blocks.push_back(t.sim.x.data());
@@ -93,23 +96,16 @@ ceres::Solver::Summary SolveRound(const GlobalBAOptions& options, double sigma, 
   }
   for (const GcpTripletTerm& g : u->gcp_terms) {
     MotionTerm& t = u->terms[g.term];
-    ceres::LossFunction* huber =
-        u->gcps->options.huber_sigmas > 0 ? new ceres::HuberLoss(u->gcps->options.huber_sigmas) : nullptr;
+    ceres::LossFunction* huber = u->gcps->options.huber_sigmas > 0
+                                     ? LossFunctionOptions{LossType::kHuber, u->gcps->options.huber_sigmas}.CreateLossFunction()
+                                     : nullptr;
     problem.AddResidualBlock(GcpResidual::Create(GcpResidual(g, t.sim)),
                              new ceres::ScaledLoss(huber, g.weight, ceres::TAKE_OWNERSHIP), t.sim.x.data());
   }
   if (!u->gcp_gauge) FixGauge(options, u, &problem);
 
-  ceres::Solver::Options so;
-  so.linear_solver_type = ceres::SPARSE_SCHUR;
+  ceres::Solver::Options so = CeresSolverOptions(options.solver);
   so.linear_solver_ordering = ordering;
-  so.max_num_iterations = options.max_iterations_per_round;
-  so.function_tolerance = options.function_tolerance;
-  so.parameter_tolerance = options.parameter_tolerance;
-  so.initial_trust_region_radius = options.initial_trust_region_radius;
-  so.num_threads = options.num_threads > 0 ? options.num_threads
-                                           : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  so.logging_type = ceres::SILENT;
   IterationReporter reporter(u, round, report_start, summary, &callback);
   so.callbacks.push_back(&reporter);
   so.update_state_every_iteration = static_cast<bool>(callback);
@@ -167,13 +163,6 @@ RoundSummary SolveRoundByBlocks(const GlobalBAOptions& options, int round, bool 
   problem.scale_pose = index.at(b);
   (u->poses.at(b).x.head<3>() - u->poses.at(a).x.head<3>()).cwiseAbs().maxCoeff(&problem.scale_coord);
 
-  MotionBlockSolverOptions so;
-  so.max_iterations = options.max_iterations_per_round;
-  so.function_tolerance = options.function_tolerance;
-  so.parameter_tolerance = options.parameter_tolerance;
-  so.initial_radius = options.initial_trust_region_radius;
-  so.embedded_similarity_iterations = options.embedded_similarity_iterations;
-  so.stop_at_refused_step = options.stop_at_refused_step;
   const MotionBlockCallback report = [&](int iteration, double cost) {
     if (iteration == 0 && (round > 0 || !report_start)) return;
     if (iteration > 0) ++summary->iterations;
@@ -188,19 +177,22 @@ RoundSummary SolveRoundByBlocks(const GlobalBAOptions& options, int round, bool 
       callback(it);
     }
   };
-  const MotionBlockSummary s = SolveMotionBlocks(problem, so, report);
+  const MotionBlockSummary s = SolveMotionBlocks(problem, options.solver, report);
   for (auto& [id, block] : u->intrinsics) block.x = intrinsics[intrinsic_index.at(id)];
-  RoundSummary out{!s.usable, s.message, s.initial_cost, s.final_cost, s.iterations};
-  out.intrinsics_inverse_hessian = s.intrinsics_inverse_hessian;
-  out.final_radius = s.final_radius;
-  return out;
+  return {!s.usable, s.message, s.initial_cost, s.final_cost, s.iterations, s.intrinsics_inverse_hessian,
+          s.final_radius};
 }
 
 RoundSummary SolveRoundByCeres(const GlobalBAOptions& options, double sigma, int round, bool report_start,
                                Unknowns* u, GlobalBASummary* summary, const GlobalBAIterationCallback& callback) {
   const ceres::Solver::Summary s = SolveRound(options, sigma, round, report_start, u, summary, callback);
-  return {s.termination_type == ceres::FAILURE, s.message, s.initial_cost, s.final_cost,
-          static_cast<int>(s.iterations.size()) - 1};
+  return {s.termination_type == ceres::FAILURE,
+          s.message,
+          s.initial_cost,
+          s.final_cost,
+          static_cast<int>(s.iterations.size()) - 1,
+          Eigen::MatrixXd(),  // no intrinsics covariance from this path
+          0.0};
 }
 
 }  // namespace pgba::internal

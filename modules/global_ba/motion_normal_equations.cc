@@ -135,7 +135,7 @@ MotionBlockSummary SolveMotionBlocks(const MotionBlockProblem& p, const MotionBl
     return summary;
   }
   if (callback) callback(0, cost);
-  double radius = options.initial_radius, nu = 2.0;
+  double radius = options.initial_trust_region_radius, nu = 2.0;
   int accepted = 0;  // steps taken
   const int m = static_cast<int>(p.poses.size());
   const int num_intrinsic_blocks = static_cast<int>(p.intrinsics.size());

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "modules/global_ba/motion_block_solver_options.h"
 #include "modules/global_ba/motion_residual.h"
 #include "pgba/optim/pose_parameterization.h"
 
@@ -45,22 +46,6 @@ struct MotionBlockProblem {
   int fixed_pose = -1;
   int scale_pose = -1;
   int scale_coord = 0;
-};
-
-struct MotionBlockSolverOptions {
-  int max_iterations = 25;
-  double function_tolerance = 1e-6;
-  double parameter_tolerance = 1e-8;
-  double initial_radius = 1e4;
-  // Gauss-Newton iterations on each motion's similarity after every pose step, the poses held
-  // (OptimizeSimilarity in the .cc: why). 0: the plain joint step.
-  int embedded_similarity_iterations = 0;
-  // End the solve at the first step refused after one was taken (the state stays at the last
-  // accepted one, the radius shrunk), for a solve whose solution is re-linearised next: the
-  // models no longer predict the cost there, and new ones do better than a shrinking trust
-  // region on the old. Refusals before any step shrink the radius as usual (a radius carried
-  // from the previous solve may be too large for the new models).
-  bool stop_at_refused_step = false;
 };
 
 struct MotionBlockSummary {

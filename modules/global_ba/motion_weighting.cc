@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "pgba/optim/loss_function_options.h"
+
 namespace pgba {
 
 MotionWeight MotionWeightOf(const LocalHessian& hessian, const GlobalBAOptions& options) {
@@ -28,8 +30,7 @@ double ResidualUnit(const LocalHessian& hessian, const GlobalBAOptions& options)
 
 double IrlsWeight(double error, double sigma, double factor) {
   if (!(factor > 0) || !(sigma > 0)) return 1.0;
-  const double u = error / (factor * sigma);
-  return 1.0 / (1.0 + u * u);
+  return LossFunctionOptions{LossType::kCauchy, factor * sigma}.IrlsWeight(error);
 }
 
 }  // namespace pgba

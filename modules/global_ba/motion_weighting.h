@@ -18,7 +18,8 @@ MotionWeight MotionWeightOf(const LocalHessian& hessian, const GlobalBAOptions& 
 // across triplets.
 double ResidualUnit(const LocalHessian& hessian, const GlobalBAOptions& options);
 
-// Cauchy IRLS weight 1 / (1 + (e / (factor sigma))^2); 1 if factor <= 0 or sigma <= 0.
+// Cauchy IRLS weight 1 / (1 + (e / (factor sigma))^2) (LossFunctionOptions::IrlsWeight);
+// 1 if factor <= 0 or sigma <= 0.
 double IrlsWeight(double error, double sigma, double factor);
 
 }  // namespace pgba

@@ -86,21 +86,21 @@ GlobalBAIterationCallback Shifted(const GlobalBAIterationCallback& callback, int
 GlobalBAResult SolveAgain(const std::map<uint32_t, Pose>& poses, const Models& models, const GlobalBAOptions& given,
                           const GlobalBAIterationCallback& callback, const GcpInput* gcps, GlobalBASummary* total) {
   GlobalBAOptions options = given;
-  options.initial_trust_region_radius = std::max(given.initial_trust_region_radius, total->final_trust_region_radius);
+  options.solver.initial_trust_region_radius = std::max(given.solver.initial_trust_region_radius, total->final_trust_region_radius);
   const int offset = total->iterations;
   const GlobalBAIterationCallback shifted = Shifted(callback, offset);
   const auto solve = [&] {
     return RunGlobalBA(poses, models.frames(), models.hessians(), options, shifted, gcps, /*report_start=*/false);
   };
   GlobalBAResult result;
-  if (options.initial_trust_region_radius > given.initial_trust_region_radius) {
+  if (options.solver.initial_trust_region_radius > given.solver.initial_trust_region_radius) {
     try {
       result = solve();
     } catch (const InputError& e) {
       PGBA_LOG_INFO << "global BA: " << e.what() << " from the carried trust region radius "
-                    << options.initial_trust_region_radius << "; solved again from "
-                    << given.initial_trust_region_radius;
-      options.initial_trust_region_radius = given.initial_trust_region_radius;
+                    << options.solver.initial_trust_region_radius << "; solved again from "
+                    << given.solver.initial_trust_region_radius;
+      options.solver.initial_trust_region_radius = given.solver.initial_trust_region_radius;
       result = solve();
     }
   } else {
@@ -123,8 +123,8 @@ GlobalBAResult SolveDamped(const std::map<uint32_t, Pose>& poses, const Models& 
                            GlobalBASummary* total) {
   GlobalBAOptions options = given;
   options.max_rounds = 1;
-  options.max_iterations_per_round = 1;
-  options.initial_trust_region_radius = radius;
+  options.solver.max_iterations = 1;
+  options.solver.initial_trust_region_radius = radius;
   const double carried = total->final_trust_region_radius;
   total->final_trust_region_radius = 0.0;
   GlobalBAResult result = SolveAgain(poses, models, options, callback, gcps, total);
@@ -149,8 +149,9 @@ GlobalBAResult CheckedRelinearization(const Reconstruction& tracks, const LocalH
 
   // A solve whose solution is re-linearised next stops at the looser tolerance.
   GlobalBAOptions before_pass = pointless;
-  before_pass.function_tolerance = std::max(options.function_tolerance, options.relinearized_function_tolerance);
-  before_pass.stop_at_refused_step = true;
+  before_pass.solver.function_tolerance =
+      std::max(options.solver.function_tolerance, options.relinearized_function_tolerance);
+  before_pass.solver.stop_at_refused_step = true;
   const auto solve_options = [&](int passes_left) -> const GlobalBAOptions& {
     return passes_left > 0 ? before_pass : pointless;
   };
@@ -223,7 +224,7 @@ GlobalBAResult CheckedRelinearization(const Reconstruction& tracks, const LocalH
     if (damped) {
       radius /= std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * std::min(gain, 1.0) - 1.0, 3));
       nu = 2.0;
-      if (radius >= options.initial_trust_region_radius) radius = 0.0;
+      if (radius >= options.solver.initial_trust_region_radius) radius = 0.0;
     }
     if (decrease < options.relinearize_cost_tolerance ||
         (!damped && total.relinearization_displacement < options.relinearize_tolerance))
@@ -255,7 +256,7 @@ GlobalBAResult RobustThenChecked(const Reconstruction& tracks, const LocalHessia
                                  const GlobalBAIterationCallback& callback, const GcpInput* gcps) {
   Timer timer;
   LocalHessianOptions robust = lh_options;
-  robust.loss = "cauchy";
+  robust.loss.type = LossType::kCauchy;
   const FreeIntrinsics free = FreeIntrinsicsOf(hessians);
   const ObservationShares shares = SharesOf(tracks, motions, robust);
   const LocalHessianResult first = ComputeLocalHessians(tracks, motions, robust, &shares, &free);
@@ -265,7 +266,7 @@ GlobalBAResult RobustThenChecked(const Reconstruction& tracks, const LocalHessia
   const GlobalBAResult r =
       CheckedRelinearization(tracks, robust, initial_poses, motions, first.hessians, robust_passes, callback, gcps);
   PGBA_LOG_INFO << "global BA: " << r.summary.relinearizations << " redescending (Cauchy) passes, then the local "
-                << "hessians with the " << lh_options.loss << " loss";
+                << "hessians with the " << LossTypeName(lh_options.loss.type) << " loss";
   // The configured models where the Cauchy passes ended (the others as given).
   Timer retake;
   LocalHessianOptions at_solution = lh_options;

@@ -10,8 +10,9 @@
 #include <map>
 #include <memory>
 
+#include "pgba/io/option_ranges.h"
 #include "pgba/geometry/triangulation.h"
-#include "pgba/optim/bundle_adjuster.h"
+#include "pgba/optim/ceres_solver_options.h"
 
 namespace pgba {
 
@@ -63,7 +64,7 @@ class PosePriorCost : public ceres::CostFunction {
 // RobustCost must be taken where the loss puts the point, as the point-based BA's are, or
 // the true cost of a step disagrees with what its models predicted.
 void MovePointsToLossMinimum(LocalBundleProblem* p, int max_iterations) {
-  const std::unique_ptr<ceres::LossFunction> loss(MakeRobustLoss(p->loss, p->huber_px));
+  const std::unique_ptr<ceres::LossFunction> loss(p->loss.CreateLossFunction());
   using Jet3 = ceres::Jet<double, 3>;
   const auto rho = [&loss](double s, double out[3]) {
     out[0] = s, out[1] = 1.0, out[2] = 0.0;
@@ -124,9 +125,8 @@ LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const L
                                            const ObservationShares* shares, const FreeIntrinsics* free) {
   *problem = LocalBundleProblem();
   problem->loss = options.loss;
-  problem->huber_px = options.huber_px;
   problem->max_reprojection_px =
-      options.loss == "cauchy" ? options.cauchy_max_reprojection_px : options.max_reprojection_px;
+      options.loss.type == LossType::kCauchy ? options.cauchy_max_reprojection_px : options.max_reprojection_px;
   const int n = motion.num_views();
   if (n < 2 || static_cast<int>(motion.local_poses.size()) != n) return LocalHessianStatus::kInvalidInput;
   std::vector<const Image*> images(n);
@@ -172,7 +172,7 @@ LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const L
     if (view_of_image[k].first == view_of_image[k - 1].first) return LocalHessianStatus::kInvalidInput;
 
   TriangulationOptions tri;
-  tri.huber_px = options.huber_px;
+  tri.huber_px = options.loss.scale;
   tri.outlier_px = options.max_reprojection_px;
   tri.min_angle_deg = options.min_triangulation_angle_deg;
   // Observation of the current track in each view, if any (the first one if an image sees
@@ -226,7 +226,7 @@ LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const L
   }
   const int m = static_cast<int>(problem->points.size());
   if (m < std::max(options.min_points, 1)) return LocalHessianStatus::kTooFewPoints;
-  if (options.loss != "huber") MovePointsToLossMinimum(problem, kLossMinimumIterations);
+  if (options.loss.type != LossType::kHuber) MovePointsToLossMinimum(problem, kLossMinimumIterations);
   problem->observation_weight = AttenuationWeight(m, options.attenuation_q);
   problem->prior_center.resize(6 * n);
   for (int k = 0; k < n; ++k) problem->prior_center.segment<6>(6 * k) = problem->poses[k].x;
@@ -253,7 +253,7 @@ bool SolveLocalBundle(int max_iterations, LocalBundleProblem* p, bool fix_gauge)
     for (const LocalObservation& o : p->observations) {
       std::unique_ptr<ceres::LossFunction>& l = losses[o.weight];
       if (!l)
-        l = std::make_unique<ceres::ScaledLoss>(MakeRobustLoss(p->loss, p->huber_px), p->observation_weight * o.weight,
+        l = std::make_unique<ceres::ScaledLoss>(p->loss.CreateLossFunction(), p->observation_weight * o.weight,
                                                 ceres::TAKE_OWNERSHIP);
       const int c = p->view_intrinsics[o.view];
       if (c >= 0) {
@@ -272,17 +272,16 @@ bool SolveLocalBundle(int max_iterations, LocalBundleProblem* p, bool fix_gauge)
       problem.AddResidualBlock(new PosePriorCost(A, p->prior_center), nullptr, blocks);
     }
     if (fix_gauge && p->poses.size() >= 2) HoldPoseAndScale(&p->poses[0], &p->poses[1], &problem);
-    ceres::Solver::Options so;
-    so.linear_solver_type = ceres::DENSE_SCHUR;
+    // Dense Schur on the points, one thread (the motions are solved in parallel).
+    SolverOptions solver;
+    solver.linear_solver_type = ceres::DENSE_SCHUR;
+    solver.max_iterations = max_iterations;
+    ceres::Solver::Options so = CeresSolverOptions(solver);
     auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
     for (auto& X : p->points) ordering->AddElementToGroup(X.data(), 0);
     for (auto& pose : p->poses) ordering->AddElementToGroup(pose.x.data(), 1);
     for (Camera& camera : in.cameras) ordering->AddElementToGroup(camera.params.data(), 1);
     so.linear_solver_ordering = ordering;
-    so.max_num_iterations = max_iterations;
-    so.num_threads = 1;
-    so.logging_type = ceres::SILENT;
-    so.minimizer_progress_to_stdout = false;
     ceres::Solver::Summary summary;
     ceres::Solve(so, &problem, &summary);
     if (summary.termination_type == ceres::FAILURE || !std::isfinite(summary.final_cost)) return false;
@@ -306,7 +305,7 @@ double MedianDepth(const LocalBundleProblem& p) {
 }
 
 double RobustCost(const LocalBundleProblem& p) {
-  const std::unique_ptr<ceres::LossFunction> loss(MakeRobustLoss(p.loss, p.huber_px));
+  const std::unique_ptr<ceres::LossFunction> loss(p.loss.CreateLossFunction());
   const auto rho = [&loss](double s) {
     if (!loss) return s;
     double r[3];
@@ -334,6 +333,11 @@ double RmsReprojectionPx(const LocalBundleProblem& p) {
     sum += r[0] * r[0] + r[1] * r[1];
   }
   return p.observations.empty() ? 0.0 : std::sqrt(sum / p.observations.size());
+}
+
+std::string LocalHessianOptions::Check() const {
+  if (const std::string m = CheckRanges(*this, "local_hessian"); !m.empty()) return m;
+  return "";
 }
 
 }  // namespace pgba

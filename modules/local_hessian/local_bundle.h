@@ -49,9 +49,8 @@ struct LocalBundleProblem {
   std::vector<LocalObservation> observations;
   // Weight of each squared residual: gamma / M (paper's attenuation), 1 if disabled.
   double observation_weight = 1.0;
-  // Robust loss and its scale (LocalHessianOptions::loss, huber_px).
-  std::string loss = "huber";
-  double huber_px = 1.0;
+  // Robust loss and its scale in pixels (LocalHessianOptions::loss).
+  LossFunctionOptions loss = {LossType::kHuber, 1.0};
   // Optional pose prior of the local BA (PriorPlacement::kLocalBAAndHessian): cost
   // 1/2 (x - x_in)^T prior (x - x_in) over the stacked 6N-vector of the pose blocks,
   // centred at the input poses (empty: none).

@@ -20,8 +20,10 @@
 
 #include "pgba/geometry/pose.h"
 #include "pgba/optim/intrinsics.h"
+#include "pgba/optim/loss_function_options.h"
 #include "pgba/scene/reconstruction.h"
 #include "pgba/scene/view_graph.h"
+#include "pgba/util/json_fields.h"
 
 namespace pgba {
 
@@ -84,13 +86,11 @@ struct LocalHessianOptions {
   // grows with M.
   double attenuation_q = 10.0;
   // Robust loss on the pixel reprojection error of the local BA, of h's IRLS weights and of
-  // the robust cost (MakeRobustLoss, optim/bundle_adjuster.h): "huber" or "cauchy" (the
-  // point-based BA's first pass: redescending, a camera far off still feels the observations
-  // it lost), scale huber_px.
-  std::string loss = "huber";
-  // Scale of the loss (Huber: the pixel error where it turns linear; Cauchy: where the
-  // weight has halved).
-  double huber_px = 1.0;
+  // the robust cost: config key "loss", "huber" (default) or "cauchy" (the point-based BA's
+  // first pass: redescending, a camera far off still feels the observations it lost), and
+  // its scale "huber_px", 1 px (Huber: the pixel error where it turns linear; Cauchy: where
+  // the weight has halved).
+  LossFunctionOptions loss = {LossType::kHuber, 1.0};
   // Observations whose reprojection error after triangulation exceeds this (pixels) are left
   // out of the triplet's problem (gross outliers); a point left with < 2 views is dropped.
   // With loss "cauchy" it is only the triangulation's outlier threshold (the point is the
@@ -129,12 +129,30 @@ struct LocalHessianOptions {
   // triplet set, as in a point-based BA, instead of n times (sequences with many triplets per
   // image pair). Off: the paper's attenuation only.
   bool shared_observation_weighting = false;
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(LocalHessianOptions, max_iterations, attenuation_q, loss, huber_px,
-                                                max_reprojection_px, cauchy_max_reprojection_px, min_points, prior_shape, prior_relative,
-                                                prior_scale_aware, prior_placement, min_eigenvalue_ratio,
-                                                min_triangulation_angle_deg, num_threads, shared_observation_weighting,
-                                                factor)
+template <class Visit>
+void JsonFields(LocalHessianOptions& o, Visit&& visit) {
+  visit("max_iterations", o.max_iterations);
+  visit("attenuation_q", o.attenuation_q);
+  visit("loss", o.loss.type);
+  visit("huber_px", o.loss.scale);
+  visit("max_reprojection_px", o.max_reprojection_px);
+  visit("cauchy_max_reprojection_px", o.cauchy_max_reprojection_px);
+  visit("min_points", o.min_points);
+  visit("prior_shape", o.prior_shape);
+  visit("prior_relative", o.prior_relative);
+  visit("prior_scale_aware", o.prior_scale_aware);
+  visit("prior_placement", o.prior_placement);
+  visit("min_eigenvalue_ratio", o.min_eigenvalue_ratio);
+  visit("min_triangulation_angle_deg", o.min_triangulation_angle_deg);
+  visit("num_threads", o.num_threads);
+  visit("shared_observation_weighting", o.shared_observation_weighting);
+  visit("factor", o.factor);
+}
+PGBA_JSON_FROM_FIELDS(LocalHessianOptions)
 
 enum class LocalHessianStatus {
   kOk = 0,

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <set>
 
+#include "pgba/io/option_ranges.h"
 #include "modules/local_hessian/local_bundle.h"
 #include "pgba/util/logging.h"
 
@@ -127,6 +128,10 @@ std::vector<LocalMotion> BuildLocalMotions(const Reconstruction& tracks, const s
                   << largest << " at most)";
   }
   return motions;
+}
+
+std::string LocalMotionOptions::Check() const {
+  return CheckRanges(*this, "local_motions");
 }
 
 }  // namespace pgba

@@ -18,6 +18,8 @@
 // starts the motions there).
 #pragma once
 
+#include <string>
+
 #include <map>
 #include <nlohmann/json.hpp>
 #include <vector>
@@ -81,6 +83,9 @@ struct LocalMotionOptions {
   // holds it: 84,610 triplet tracks for the 6,768 tracks of a long-focal loop), and a
   // linearisation point needs only a connected, covering subset.
   int triplet_start_max_per_image = 2;
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(LocalMotionOptions, kind, max_views, min_tracks, views,
                                                 min_shared_tracks, max_iterations, neighbour_strides,

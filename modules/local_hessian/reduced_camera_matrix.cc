@@ -9,7 +9,6 @@
 #include <memory>
 
 #include "pgba/geometry/rotation.h"
-#include "pgba/optim/bundle_adjuster.h"
 #include "pgba/optim/intrinsics.h"
 
 namespace pgba {
@@ -102,7 +101,7 @@ ReducedCameraSystem ReducedCameraMatrix(const LocalBundleProblem& p) {
   Eigen::Matrix<double, Eigen::Dynamic, 3> Hcp(n, 3);
   // IRLS weight of the loss: rho'(s) of the squared error s, as Ceres' loss correction takes
   // it where rho'' <= 0 (Huber's linear part, Cauchy everywhere).
-  const std::unique_ptr<ceres::LossFunction> loss(MakeRobustLoss(p.loss, p.huber_px));
+  const std::unique_ptr<ceres::LossFunction> loss(p.loss.CreateLossFunction());
   // The rows a point touches: its views' pose blocks, then its free cameras' intrinsics
   // (a camera shared by several of its views once).
   struct Segment {

@@ -1,4 +1,5 @@
 #include "modules/local_hessian/whole_track_motions.h"
+#include "pgba/io/option_ranges.h"
 
 #include <algorithm>
 #include <tuple>
@@ -183,6 +184,10 @@ std::vector<LocalMotion> SelectWholeTrackMotions(const Reconstruction& tracks, c
     motions.push_back(std::move(lm));
   }
   return motions;
+}
+
+std::string WholeTrackMotionOptions::Check() const {
+  return CheckRangesAt({{"max_views", max_views}, {"min_tracks", min_tracks}}, "WholeTrackMotionOptions");
 }
 
 }  // namespace pgba

@@ -23,6 +23,8 @@
 // lose its tracks).
 #pragma once
 
+#include <string>
+
 #include <cstdint>
 #include <map>
 #include <vector>
@@ -38,6 +40,9 @@ struct WholeTrackMotionOptions {
   int max_views = 12;
   // Fewest tracks a motion keeps; fewer: its tracks go to other motions.
   int min_tracks = 30;
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
 
 // The motions over the images of `poses` (only their observations count: a track with fewer

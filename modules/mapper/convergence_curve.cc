@@ -3,12 +3,13 @@
 #include <limits>
 #include <stdexcept>
 
+#include "pgba/io/option_ranges.h"
 #include "evaluation/sigma.h"
 
 namespace pgba {
 
 std::string ConvergenceOptions::Check() const {
-  if (max_tracks < 0) return "max_tracks must be >= 0 (0 = every track)";
+  if (const std::string m = CheckRanges(*this, "convergence"); !m.empty()) return m;
   return "";
 }
 

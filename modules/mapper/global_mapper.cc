@@ -15,8 +15,8 @@ std::string GlobalMapperOptions::Check() const {
   if (const std::string p = pairs.Check(); !p.empty()) return "pairs." + p;
   if (const std::string p = calibration.Check(); !p.empty()) return "calibration." + p;
   if (const std::string p = triplets.Check(); !p.empty()) return "triplets." + p;
-  if (!(rotation_outliers.fraction >= 0.0 && rotation_outliers.fraction <= 1.0))
-    return "rotation outlier fraction must be in [0, 1], got " + std::to_string(rotation_outliers.fraction);
+  if (const std::string p = global_init.Check(); !p.empty()) return "global_init." + p;
+  if (const std::string p = rotation_outliers.Check(); !p.empty()) return "rotation_outliers." + p;
   return "";
 }
 

@@ -58,7 +58,7 @@ std::map<uint32_t, Pose> TripletPointlessStart(const Reconstruction& tracks, con
   GlobalBAOptions paper_ba;
   paper_ba.max_rounds = 1;
   paper_ba.max_relinearizations = 0;
-  paper_ba.max_iterations_per_round = max_iterations;
+  paper_ba.solver.max_iterations = max_iterations;
   const LocalHessianResult h = ComputeLocalHessians(tracks, triplets, paper_lh);
   const GlobalBAResult r =
       RelinearizedGlobalBA(tracks, paper_lh, initial, triplets, h.hessians, paper_ba);

@@ -15,6 +15,8 @@ namespace pgba {
 
 std::string PointlessMapperOptions::Check() const {
   if (const std::string p = mapper.Check(); !p.empty()) return p;
+  if (const std::string p = refinement.Check(); !p.empty()) return p;
+  if (const std::string p = gcp.Check(); !p.empty()) return "gcp." + p;
   if (const std::string p = convergence.Check(); !p.empty()) return "convergence." + p;
   return "";
 }

@@ -4,6 +4,7 @@
 #include <limits>
 #include <string>
 
+#include "pgba/io/option_ranges.h"
 #include "mapper/linearization_start.h"
 #include "pgba/io/report.h"
 #include "pgba/util/error.h"
@@ -209,6 +210,21 @@ RefinementResult RefinePointless(const Reconstruction& tracks, const std::map<ui
   r.details["triplet_start"] = hessians.triplet_start;
   if (gcps) r.details["gcp_residuals"] = summary.num_gcp_residuals;
   return r;
+}
+
+std::string PointBasedOptions::Check() const {
+  if (const std::string m = CheckRanges(*this, "point_based"); !m.empty()) return m;
+  return "";
+}
+
+// The sections' own Check()s, each message prefixed with its section.
+std::string RefinementOptions::Check() const {
+  if (const std::string p = local_motions.Check(); !p.empty()) return "local_motions." + p;
+  if (const std::string p = local_hessian.Check(); !p.empty()) return "local_hessian." + p;
+  if (const std::string p = global_ba.Check(); !p.empty()) return "global_ba." + p;
+  if (const std::string p = point_based.Check(); !p.empty()) return "point_based." + p;
+  if (const std::string p = intrinsics.Check(); !p.empty()) return "intrinsics." + p;
+  return "";
 }
 
 }  // namespace pgba

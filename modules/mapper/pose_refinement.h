@@ -38,6 +38,9 @@ struct PointBasedOptions {
   // Observations whose reprojection error exceeds this after the first pass are removed and
   // the adjustment is run again (COLMAP's filter-and-refine; <= 0: a single pass).
   double filter_max_error_px = 4.0;
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(PointBasedOptions, bundle, first_pass_loss, filter_max_error_px)
 
@@ -69,6 +72,9 @@ struct RefinementOptions {
   // Whether the tracks' calibration is only a prior (set by `pgba run` when no calibration
   // file was given; IntrinsicsCameras::kAuto refines exactly then). Not a config key.
   bool calibration_is_prior = false;
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
 // The intrinsic unknowns `options` gives the cameras of `tracks` (empty: none).
 FreeIntrinsics SelectRefinedIntrinsics(const Reconstruction& tracks, const RefinementOptions& options);

@@ -163,4 +163,10 @@ RunOutput RunPipeline(const std::string& images_dir, const CalibrationInput& cal
   return result;
 }
 
+// The features section's options are checked by the extractor (modules/features).
+std::string RunOptions::Check() const {
+  if (const std::string p = matching.Check(); !p.empty()) return "matching." + p;
+  return reconstruction.Check();
+}
+
 }  // namespace pgba

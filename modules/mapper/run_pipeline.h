@@ -23,6 +23,9 @@ struct RunOptions {
   // spec-sheet focal, an old calibration), so intrinsics.cameras "auto" refines it in every
   // BA as it does EXIF priors. Default false: a given calibration is held.
   bool calibration_is_prior = false;
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
 // Loads `path` (empty: defaults) against the schema of every section above. Every command
 // reads its config through this, so one preset of configs/ serves run, reconstruct and

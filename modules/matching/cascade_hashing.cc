@@ -5,6 +5,7 @@
 #include <limits>
 #include <string>
 
+#include "pgba/io/option_ranges.h"
 #include "features/feature_set.h"
 #include "pgba/util/error.h"
 
@@ -258,6 +259,11 @@ void HashedDescriptors::SearchBestTwo(const HashedDescriptors& queries, const st
     if (j1 >= 0) (*best_dist)[q] = std::sqrt(static_cast<float>(d1));
     if (k >= 2) (*second_dist)[q] = std::sqrt(static_cast<float>(d2));
   }
+}
+
+std::string CascadeHashingOptions::Check() const {
+  if (const std::string m = CheckRanges(*this, "matching.descriptors.cascade_hashing"); !m.empty()) return m;
+  return "";
 }
 
 }  // namespace pgba

@@ -8,6 +8,8 @@
 // is a function of the inputs alone.
 #pragma once
 
+#include <string>
+
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
@@ -26,6 +28,9 @@ struct CascadeHashingOptions {
   int target_bucket_size = 32;
   // Candidates with the fewest differing code bits whose L2 distance is computed.
   int num_reranked = 10;
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(CascadeHashingOptions, num_tables, bits_per_bucket,
                                                 target_bucket_size, num_reranked)

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "pgba/io/option_ranges.h"
 #include "pgba/util/error.h"
 
 namespace pgba {
@@ -106,6 +107,11 @@ std::vector<std::pair<uint32_t, uint32_t>> MatchDescriptors(const DescriptorInde
     matches.emplace_back(static_cast<uint32_t>(i), static_cast<uint32_t>(j));
   }
   return matches;
+}
+
+std::string DescriptorMatchOptions::Check() const {
+  if (const std::string m = CheckRanges(*this, "matching.descriptors"); !m.empty()) return m;
+  return "";
 }
 
 }  // namespace pgba

@@ -35,6 +35,9 @@ struct DescriptorMatchOptions {
   // time of 32 for the same number of putative matches (4709 vs 4787) and verified pairs.
   int kdtree_trees = 4;
   int checks = 32;
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(DescriptorMatchOptions, max_ratio, max_distance, cross_check, method,
                                                 cascade_hashing, kdtree_trees, checks)

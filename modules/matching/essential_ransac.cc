@@ -12,6 +12,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "pgba/io/option_ranges.h"
 #include "matching/relative_pose.h"
 #include "matching/relative_pose_method.h"
 
@@ -211,6 +212,16 @@ EssentialRansacResult EssentialRansac(const std::vector<Eigen::Vector3d>& b1, co
   result.num_inliers = best_inliers;
   result.success = best_inliers >= 5;
   return result;
+}
+
+std::string EssentialRansacOptions::Check() const {
+  const std::string m = CheckRangesAt({{"threshold_angle", threshold_angle}, {"algorithm", algorithm},
+                                       {"max_iterations", max_iterations}, {"confidence", confidence},
+                                       {"min_iterations", min_iterations}},
+                                      "EssentialRansacOptions");
+  if (!m.empty()) return m;
+  if (min_iterations > max_iterations) return "min_iterations: must not exceed max_iterations";
+  return "";
 }
 
 }  // namespace pgba

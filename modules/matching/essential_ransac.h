@@ -31,6 +31,9 @@ struct EssentialRansacOptions {
   // otherwise stop after a handful, leaving the best of a few to the refinement.
   int min_iterations = 20;
   uint64_t seed = 0;
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
 
 struct EssentialRansacResult {

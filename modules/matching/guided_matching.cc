@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "pgba/io/option_ranges.h"
 #include "matching/relative_pose.h"
 
 namespace pgba {
@@ -32,6 +33,7 @@ bool NearestTwo::Passes(const GuidedMatchingOptions& options) const {
 }
 
 std::string GuidedMatchingOptions::Check() const {
+  if (const std::string m = CheckRanges(*this, "matching.verification.guided"); !m.empty()) return m;
   if (min_inliers > max_inliers) return "min_inliers: must not exceed max_inliers";
   return "";
 }

@@ -9,6 +9,7 @@
 
 #include <filesystem>
 
+#include "pgba/io/option_ranges.h"
 #include "features/feature_file.h"
 #include "features/feature_index.h"
 #include "matching/third_view_transfer.h"
@@ -311,6 +312,11 @@ nlohmann::json MatchingRecord(const MatchingResult& r) {
   for (const PairOutcome& p : r.pair_outcomes) verdicts[p.check.verdict] = verdicts.value(p.check.verdict, 0) + 1;
   record["pair_verdicts"] = verdicts;
   return record;
+}
+
+std::string MatchingOptions::Check() const {
+  if (const std::string m = CheckRanges(*this, "matching"); !m.empty()) return m;
+  return "";
 }
 
 }  // namespace pgba

@@ -29,6 +29,9 @@ struct MatchingOptions {
   // kd-forest, ~0.5 MB of codes with cascade hashing, which shares the descriptors). Pairs are processed in
   // blocks of images so that each forest is built about once per block it appears in.
   int max_indexed_images = 100;
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(MatchingOptions, pairs, descriptors, verification, tracks,
                                                 max_indexed_images)

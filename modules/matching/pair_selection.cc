@@ -2,6 +2,7 @@
 
 #include <set>
 
+#include "pgba/io/option_ranges.h"
 #include "pgba/util/error.h"
 
 namespace pgba {
@@ -40,6 +41,11 @@ std::vector<ImagePair> SelectPairs(const std::vector<cv::Mat>& descriptors, cons
     return RetrievalPairs(descriptors, options.vlad);
   }
   ThrowInputError("--pairs", 0, "unknown pair selection '" + options.method + "' (exhaustive, sequential, retrieval)");
+}
+
+std::string PairSelectionOptions::Check() const {
+  if (const std::string m = CheckRanges(*this, "matching.pairs"); !m.empty()) return m;
+  return "";
 }
 
 }  // namespace pgba

@@ -27,6 +27,9 @@ struct PairSelectionOptions {
   int window = 10;                    // sequential: neighbours after each image
   bool loop = false;                  // sequential: also pair the last images with the first
   VladOptions vlad;                   // retrieval
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(PairSelectionOptions, method, window, loop, vlad)
 

@@ -18,7 +18,9 @@
 #include <stdexcept>
 #include <utility>
 
+#include "pgba/io/option_ranges.h"
 #include "modules/matching/essential_ransac.h"
+#include "pgba/optim/ceres_solver_options.h"
 #include "modules/matching/opengv_rng.h"
 #include "modules/matching/relative_pose_method.h"
 #include "pgba/geometry/rotation.h"
@@ -130,7 +132,7 @@ void Refine(const std::vector<Eigen::Vector3d>& b1, const std::vector<Eigen::Vec
   double omega[3] = {0, 0, 0};
   double tv[3] = {t->x(), t->y(), t->z()};
   ceres::Problem problem;
-  ceres::LossFunction* loss = new ceres::HuberLoss(options.huber_px);
+  ceres::LossFunction* loss = options.loss.CreateLossFunction();
   for (size_t k = 0; k < m; ++k) {
     const size_t i = inliers[k * inliers.size() / m];  // evenly spaced subsample
     problem.AddResidualBlock(new ceres::AutoDiffCostFunction<SampsonResidual, 1, 3, 3>(
@@ -138,13 +140,8 @@ void Refine(const std::vector<Eigen::Vector3d>& b1, const std::vector<Eigen::Vec
                              loss, omega, tv);
   }
   problem.SetManifold(tv, new ceres::SphereManifold<3>());
-  ceres::Solver::Options solver;
-  solver.linear_solver_type = ceres::DENSE_QR;
-  solver.max_num_iterations = 50;
-  solver.num_threads = 1;
-  solver.logging_type = ceres::SILENT;
   ceres::Solver::Summary summary;
-  ceres::Solve(solver, &problem, &summary);
+  ceres::Solve(CeresSolverOptions(options.solver), &problem, &summary);
   if (!summary.IsSolutionUsable()) return;
   const Eigen::Matrix3d R_new = ClosestRotation(*R * ExpSO3(Eigen::Vector3d(omega[0], omega[1], omega[2])));
   const Eigen::Vector3d t_new = Eigen::Vector3d(tv[0], tv[1], tv[2]).normalized();
@@ -339,6 +336,11 @@ RelativePoseResult RefineRelativePose(const std::vector<Eigen::Vector3d>& bearin
   }
   return FinishFromModel(bearings1, bearings2, focal_px, options, kRefineStartMaxPasses, /*stop_when_converged=*/true,
                          R, t, std::move(result));
+}
+
+std::string RelativePoseOptions::Check() const {
+  if (const std::string m = CheckRanges(*this, "pairs.relative_pose"); !m.empty()) return m;
+  return "";
 }
 
 }  // namespace pgba

@@ -15,6 +15,10 @@
 #include <string>
 #include <vector>
 
+#include "pgba/optim/loss_function_options.h"
+#include "pgba/optim/solver_options.h"
+#include "pgba/util/json_fields.h"
+
 namespace pgba {
 
 struct RelativePoseOptions {
@@ -38,9 +42,15 @@ struct RelativePoseOptions {
   double confidence = 0.9999;
   // Seed of RANSAC's sampling (results are deterministic for a given seed).
   uint64_t seed = 0;
-  // Nonlinear refinement of the Sampson error (Ceres, Huber loss) on the inliers.
+  // Nonlinear refinement of the Sampson error on the inliers: Huber loss at 1 px (config
+  // key "huber_px"), Ceres' dense QR, at most 50 iterations, one thread.
   bool refine = true;
-  double huber_px = 1.0;
+  LossFunctionOptions loss = {LossType::kHuber, 1.0};
+  SolverOptions solver = [] {
+    SolverOptions s;
+    s.linear_solver_type = ceres::DENSE_QR;
+    return s;
+  }();
   // Refine + re-classify passes after RANSAC, stopping early (when `refine_until_converged`)
   // once a pass leaves the inliers unchanged and turns the rotation by less than 1e-4 deg.
   // Two fixed passes were enough from OpenGV's hypotheses; from the Sampson-scored ones they
@@ -53,11 +63,26 @@ struct RelativePoseOptions {
   int max_refine_correspondences = 1000;
   // Below this many inliers the estimate is a failure.
   int min_inliers = 15;
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(RelativePoseOptions, threshold_px, algorithm, scoring, max_iterations,
-                                                confidence, seed, refine, huber_px, refine_passes, refine_until_converged,
-                                                max_refine_correspondences,
-                                                min_inliers)
+template <class Visit>
+void JsonFields(RelativePoseOptions& o, Visit&& visit) {
+  visit("threshold_px", o.threshold_px);
+  visit("algorithm", o.algorithm);
+  visit("scoring", o.scoring);
+  visit("max_iterations", o.max_iterations);
+  visit("confidence", o.confidence);
+  visit("seed", o.seed);
+  visit("refine", o.refine);
+  visit("huber_px", o.loss.scale);
+  visit("refine_passes", o.refine_passes);
+  visit("refine_until_converged", o.refine_until_converged);
+  visit("max_refine_correspondences", o.max_refine_correspondences);
+  visit("min_inliers", o.min_inliers);
+}
+PGBA_JSON_FROM_FIELDS(RelativePoseOptions)
 
 struct RelativePoseResult {
   bool success = false;

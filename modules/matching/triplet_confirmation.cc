@@ -7,6 +7,7 @@
 #include <set>
 #include <unordered_map>
 
+#include "pgba/io/option_ranges.h"
 #include "pgba/geometry/rotation.h"
 
 namespace pgba {
@@ -49,12 +50,7 @@ void KeepLeafPairs(const std::vector<PairEstimate>& pairs, std::vector<int64_t>*
 }  // namespace
 
 std::string TripletConfirmationOptions::Check() const {
-  if (min_inliers < 8) return "min_inliers: must be >= 8";
-  if (!(max_rotation_sd_deg > 0)) return "max_rotation_sd_deg: must be > 0";
-  if (max_verified_pairs < 0) return "max_verified_pairs: must be >= 0";
-  if (!(max_rotation_cycle_deg > 0 && max_rotation_cycle_deg <= 180)) return "max_rotation_cycle_deg: must be in (0, 180]";
-  if (!(max_coplanarity_deg > 0 && max_coplanarity_deg <= 90)) return "max_coplanarity_deg: must be in (0, 90]";
-  if (min_closed_matches < 0) return "min_closed_matches: must be >= 0";
+  if (const std::string m = CheckRanges(*this, "matching.verification.weak_pairs"); !m.empty()) return m;
   return "";
 }
 

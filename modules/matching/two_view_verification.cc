@@ -1,4 +1,5 @@
 #include "matching/two_view_verification.h"
+#include "pgba/io/option_ranges.h"
 
 #include <algorithm>
 
@@ -124,6 +125,11 @@ std::optional<VerifiedPair> VerifyPair(uint32_t image_id1, const Camera& camera1
   for (size_t k = 0; k < used.size(); ++k)
     if (pose.inlier_mask[k]) out.inlier_matches.push_back(used[k]);
   return out;
+}
+
+std::string VerificationOptions::Check() const {
+  if (const std::string m = CheckRanges(*this, "matching.verification"); !m.empty()) return m;
+  return "";
 }
 
 }  // namespace pgba

@@ -64,6 +64,9 @@ struct VerificationOptions {
   // rotation bound above, within the looser bounds there, is kept when a third view
   // confirms it once every pair is verified (MatchImages).
   TripletConfirmationOptions weak_pairs;
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(VerificationOptions, relative_pose, min_inlier_ratio,
                                                 max_rotation_sd_deg, guided, weak_pairs)

@@ -6,6 +6,7 @@
 #include <numeric>
 #include <set>
 
+#include "pgba/io/option_ranges.h"
 #include "features/feature_set.h"
 
 namespace pgba {
@@ -97,6 +98,11 @@ std::vector<std::pair<uint32_t, uint32_t>> RetrievalPairs(const std::vector<cv::
       pairs.emplace(static_cast<uint32_t>(std::min(i, order[r])), static_cast<uint32_t>(std::max(i, order[r])));
   }
   return {pairs.begin(), pairs.end()};
+}
+
+std::string VladOptions::Check() const {
+  if (const std::string m = CheckRanges(*this, "matching.pairs.vlad"); !m.empty()) return m;
+  return "";
 }
 
 }  // namespace pgba

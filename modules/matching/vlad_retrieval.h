@@ -9,6 +9,8 @@
 //   3. Similarity = dot product; each image keeps its `neighbors` most similar images.
 #pragma once
 
+#include <string>
+
 #include <Eigen/Core>
 #include <cstdint>
 #include <nlohmann/json.hpp>
@@ -24,6 +26,9 @@ struct VladOptions {
   int max_training_descriptors = 100000;
   int kmeans_iterations = 20;
   uint64_t seed = 0;
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(VladOptions, neighbors, num_words, max_training_descriptors,
                                                 kmeans_iterations, seed)

@@ -268,4 +268,7 @@ double WriteAerialBlock(const AerialBlock& block, const AerialBlockOptions& opti
   return seconds;
 }
 
+// ValidateAerialBlockOptions's rules (they name the CLI flags), as a message.
+std::string AerialBlockOptions::Check() const { return synthetic::ValidationMessage(ValidateAerialBlockOptions, *this); }
+
 }  // namespace pgba

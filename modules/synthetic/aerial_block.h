@@ -38,6 +38,9 @@ struct AerialBlockOptions {
   double forward_overlap = 0.75;  // along a strip, fraction of the footprint, [0.5, 0.9]
   double side_overlap = 0.5;      // between strips, [0.2, 0.8]
   double ground_sample_m = 0.1;   // ground distance of one pixel at nadir, metres
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
 
 // Defaults of the aerial scene where they differ from the room's: 1024 x 768 images, 1000 of

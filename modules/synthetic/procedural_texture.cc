@@ -1,4 +1,5 @@
 #include "modules/synthetic/procedural_texture.h"
+#include "pgba/io/option_ranges.h"
 
 #include <algorithm>
 #include <cmath>
@@ -97,6 +98,16 @@ cv::Mat MakeProceduralTexture(int width, int height, uint64_t seed, const Proced
   }
   if (options.blur_sigma > 0) cv::GaussianBlur(texture, texture, cv::Size(0, 0), options.blur_sigma);
   return texture;
+}
+
+std::string ProceduralTextureOptions::Check() const {
+  const std::string m = CheckRangesAt({{"largest_cell", largest_cell}, {"blobs_per_10k", blobs_per_10k},
+                                       {"texts_per_10k", texts_per_10k}, {"lines_per_10k", lines_per_10k},
+                                       {"min_blob", min_blob}, {"max_blob", max_blob}, {"blur_sigma", blur_sigma}},
+                                      "ProceduralTextureOptions");
+  if (!m.empty()) return m;
+  if (max_blob < min_blob) return "max_blob: must be >= min_blob";
+  return "";
 }
 
 }  // namespace pgba::synthetic

@@ -13,6 +13,8 @@
 // is drawn from one cv::RNG seeded by `seed`: the same arguments give the same texels.
 #pragma once
 
+#include <string>
+
 #include <cstdint>
 #include <opencv2/core.hpp>
 
@@ -30,6 +32,9 @@ struct ProceduralTextureOptions {
   double max_blob = 60.0;
   // Standard deviation of the final blur, texels (band limit: features need ~2 texels).
   double blur_sigma = 0.7;
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
 
 // A width x height CV_8UC3 (BGR) texture. InputError-free: sizes must be >= 1 (asserted).

@@ -197,4 +197,7 @@ void WriteRenderedScene(const RenderedScene& scene, const std::string& dir) {
   WriteStringAtomically(out / "loop.txt", loop);
 }
 
+// ValidateRenderedSceneOptions's rules (they name the CLI flags), as a message.
+std::string RenderedSceneOptions::Check() const { return synthetic::ValidationMessage(ValidateRenderedSceneOptions, *this); }
+
 }  // namespace pgba

@@ -43,6 +43,9 @@ struct RenderedSceneOptions {
   // Relative error of the focal of DIR/cameras.txt, the calibration handed to the pipeline
   // (its distortion is 0); gt/cameras.txt holds the truth. In [-0.5, 1].
   double focal_prior_error = 0.0;
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
 
 // InputError naming the option for unusable values.

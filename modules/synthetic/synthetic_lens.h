@@ -7,6 +7,7 @@
 #include <string>
 
 #include "pgba/scene/camera.h"
+#include "pgba/util/error.h"
 
 namespace pgba::synthetic {
 
@@ -26,5 +27,17 @@ Camera FocalPrior(const Camera& truth, double relative_error);
 // error in [-0.5, 1].
 void ValidateLensOptions(double k1, const std::string& k1_option, double focal_prior_error,
                          const std::string& error_option);
+
+// The message of the InputError `validate(options)` throws, empty if none: the Check() of the
+// synthetic scenes' options, whose validators name the CLI flags.
+template <typename Options>
+std::string ValidationMessage(void (*validate)(const Options&), const Options& options) {
+  try {
+    validate(options);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
 
 }  // namespace pgba::synthetic

@@ -213,4 +213,7 @@ SyntheticScene GenerateSyntheticScene(const SyntheticOptions& options) {
   return scene;
 }
 
+// ValidateSyntheticOptions's rules (they name the CLI flags), as a message.
+std::string SyntheticOptions::Check() const { return synthetic::ValidationMessage(ValidateSyntheticOptions, *this); }
+
 }  // namespace pgba

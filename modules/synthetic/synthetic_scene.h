@@ -70,6 +70,9 @@ struct SyntheticOptions {
   // true one times (1 + focal_prior_error) and its distortion 0; gt/ keeps the truth. With
   // k1 = 0 and no error, input/ and gt/ share the camera. In [-0.5, 1].
   double focal_prior_error = 0.0;
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(SyntheticOptions, scenario, seed, noise_px, outlier_fraction,
                                                 num_images, num_points, num_strips, k1, focal_prior_error)

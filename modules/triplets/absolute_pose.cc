@@ -9,6 +9,7 @@
 #include <memory>
 #include <stdexcept>
 
+#include "pgba/io/option_ranges.h"
 #include "modules/matching/opengv_rng.h"
 #include "pgba/geometry/rotation.h"
 
@@ -71,6 +72,11 @@ AbsolutePoseResult EstimateAbsolutePose(const std::vector<Eigen::Vector3d>& bear
   }
   result.success = result.num_inliers >= options.min_inliers;
   return result;
+}
+
+std::string AbsolutePoseOptions::Check() const {
+  if (const std::string m = CheckRanges(*this, "triplets.absolute_pose"); !m.empty()) return m;
+  return "";
 }
 
 }  // namespace pgba

@@ -25,6 +25,9 @@ struct AbsolutePoseOptions {
   double confidence = 0.9999;
   uint64_t seed = 0;
   int min_inliers = 12;
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(AbsolutePoseOptions, threshold_px, algorithm, max_iterations,
                                                 confidence, seed, min_inliers)

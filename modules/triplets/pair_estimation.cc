@@ -7,6 +7,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "pgba/io/option_ranges.h"
 #include "modules/matching/opengv_rng.h"
 #include "modules/triplets/track_index.h"
 #include "pgba/util/logging.h"
@@ -165,6 +166,7 @@ std::map<uint64_t, TwoViewGeometry> ByPairKey(const std::vector<TwoViewGeometry>
 }  // namespace
 
 std::string PairOptions::Check() const {
+  if (const std::string m = CheckRanges(*this, "pairs"); !m.empty()) return m;
   if (front_end != "refine" && front_end != "reuse" && front_end != "estimate")
     return "front_end must be one of refine, reuse, estimate (got '" + front_end + "')";
   return "";

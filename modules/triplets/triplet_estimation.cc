@@ -4,6 +4,7 @@
 #include <cmath>
 #include <optional>
 
+#include "pgba/io/option_ranges.h"
 #include "modules/triplets/intrinsics_uncertainty.h"
 #include "pgba/geometry/rotation.h"
 #include "pgba/geometry/sim3.h"
@@ -201,7 +202,7 @@ TripletEstimate EstimateTriplet(const TrackIndex& index, const std::array<uint32
     }
   }
   BundleAdjusterOptions ba = options.bundle_adjuster;
-  ba.num_threads = 1;
+  ba.solver.num_threads = 1;
   const Reconstruction initial = problem.free_intrinsics.empty() ? Reconstruction() : local;
   BundleAdjustmentSummary summary;
   for (int round = 0;; ++round) {
@@ -271,7 +272,7 @@ TripletEstimate EstimateTriplet(const TrackIndex& index, const std::array<uint32
 }
 
 std::string TripletOptions::Check() const {
-  if (!(intrinsics_max_sd_px > 0.0)) return "intrinsics_max_sd_px must be > 0 (1e9: always free)";
+  if (const std::string m = CheckRanges(*this, "triplets"); !m.empty()) return m;
   return "";
 }
 

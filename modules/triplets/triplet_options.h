@@ -52,7 +52,7 @@ struct TripletOptions {
   // num_threads is forced to 1: triplets run in parallel.
   BundleAdjusterOptions bundle_adjuster = [] {
     BundleAdjusterOptions o;
-    o.max_iterations = 200;
+    o.solver.max_iterations = 200;
     return o;
   }();
   // Self-calibration in the triplet BA: the focal and distortion coefficients of the

@@ -118,7 +118,7 @@ TEST(TrackPositioning, NothingToDoLeavesPosesUntouched) {
     EXPECT_EQ(p.q().coeffs(), start.at(id).q().coeffs());
   }
   TrackPositioningOptions bad;
-  bad.loss_scale_px = 0.0;
+  bad.loss.scale = 0.0;
   EXPECT_THROW(PositionOnTracks(scene.input, {}, bad, &poses), InputError);
 }
 

@@ -33,7 +33,7 @@ double CostWithPointsOptimised(const LocalBundleProblem& p, const std::vector<Po
   for (const LocalObservation& o : p.observations)
     problem.AddResidualBlock(
         ReprojectionError::Create(p.cameras[o.view], blocks[o.view].R0, o.pixel),
-        new ceres::ScaledLoss(new ceres::HuberLoss(p.huber_px), p.observation_weight, ceres::TAKE_OWNERSHIP),
+        new ceres::ScaledLoss(p.loss.CreateLossFunction(), p.observation_weight, ceres::TAKE_OWNERSHIP),
         blocks[o.view].x.data(), points[o.point].data());
   ceres::Solver::Options so;
   so.linear_solver_type = ceres::DENSE_SCHUR;

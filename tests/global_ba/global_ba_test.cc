@@ -136,7 +136,7 @@ TEST(GlobalBA, GaugeChoicesAgree) {
   const Scenario s = MakeScenario(20, 2500, 4, 41);
   // Converged tightly, so that what differs is the gauge and not where each run stopped.
   GlobalBAOptions a;
-  a.function_tolerance = a.parameter_tolerance = 1e-12;
+  a.solver.function_tolerance = a.solver.parameter_tolerance = 1e-12;
   a.round_tolerance = 1e-9;
   a.gauge = GaugeFixing::kFixPoseAndScale;
   GlobalBAOptions b = a;

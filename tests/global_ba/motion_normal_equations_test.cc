@@ -61,9 +61,9 @@ TEST(MotionBlockSolver, SameSolutionAsCeresOnTheSameObjective) {
   ASSERT_EQ(hessians.num_ok(), static_cast<int>(motions.size()));
 
   GlobalBAOptions blocks = WholeTrackGlobalBAOptions();
-  blocks.function_tolerance = 1e-12;
-  blocks.parameter_tolerance = 1e-14;
-  blocks.max_iterations_per_round = 50;
+  blocks.solver.function_tolerance = 1e-12;
+  blocks.solver.parameter_tolerance = 1e-14;
+  blocks.solver.max_iterations = 50;
   GlobalBAOptions ceres = blocks;
   ceres.gauge = GaugeFixing::kFixSimilarity;  // not supported by the block solver: Ceres runs
   const GlobalBAResult a = PointlessGlobalBA(initial, motions, hessians.hessians, blocks);
@@ -108,12 +108,12 @@ TEST(MotionBlockSolver, SameSolutionAsCeresOnTheSameObjective) {
 TEST(MotionBlockSolver, EmbeddedSimilarityIterationsReachTheSameOptimumSooner) {
   const RingMotions ring = MakeRingMotions();
   GlobalBAOptions embedded = WholeTrackGlobalBAOptions();
-  embedded.function_tolerance = 1e-12;
-  embedded.parameter_tolerance = 1e-14;
-  embedded.max_iterations_per_round = 100;
-  embedded.embedded_similarity_iterations = 1;
+  embedded.solver.function_tolerance = 1e-12;
+  embedded.solver.parameter_tolerance = 1e-14;
+  embedded.solver.max_iterations = 100;
+  embedded.solver.embedded_similarity_iterations = 1;
   GlobalBAOptions joint = embedded;
-  joint.embedded_similarity_iterations = 0;
+  joint.solver.embedded_similarity_iterations = 0;
   const GlobalBAResult a = PointlessGlobalBA(ring.initial, ring.motions, ring.hessians.hessians, embedded);
   const GlobalBAResult b = PointlessGlobalBA(ring.initial, ring.motions, ring.hessians.hessians, joint);
   std::printf("  iterations: embedded %d, joint %d; final cost %.9g vs %.9g\n", a.summary.iterations,

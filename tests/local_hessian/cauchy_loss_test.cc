@@ -57,7 +57,7 @@ TEST(CauchyLocalHessian, KeepsObservationsBeyondTheCutWithPointsAtTheLossMinimum
   std::mt19937_64 rng(3);
   const LocalMotion t = MakeTriplet(rec, {1, 2, 4}, rng);
   LocalHessianOptions huber, cauchy;
-  cauchy.loss = "cauchy";
+  cauchy.loss.type = LossType::kCauchy;
   LocalBundleProblem ph, pc;
   ASSERT_EQ(BuildLocalBundleProblem(rec, t, huber, &ph), LocalHessianStatus::kOk);
   ASSERT_EQ(BuildLocalBundleProblem(rec, t, cauchy, &pc), LocalHessianStatus::kOk);
@@ -76,7 +76,7 @@ TEST(CauchyLocalHessian, KeepsObservationsBeyondTheCutWithPointsAtTheLossMinimum
   }
   for (const LocalObservation& o : pc.observations)
     problem.AddResidualBlock(ReprojectionError::Create(pc.cameras[o.view], poses[o.view].R0, o.pixel),
-                             new ceres::CauchyLoss(pc.huber_px), poses[o.view].x.data(), points[o.point].data());
+                             pc.loss.CreateLossFunction(), poses[o.view].x.data(), points[o.point].data());
   ceres::Solver::Options so;
   so.linear_solver_type = ceres::DENSE_SCHUR;
   so.function_tolerance = 1e-16;
@@ -100,7 +100,7 @@ TEST(CauchyLocalHessian, EqualsInverseOfCameraBlockOfDenseCovariance) {
   std::mt19937_64 rng(3);
   const LocalMotion t = MakeTriplet(rec, {1, 2, 4}, rng);
   LocalHessianOptions opt;
-  opt.loss = "cauchy";
+  opt.loss.type = LossType::kCauchy;
   opt.max_iterations = 5;
   LocalBundleProblem p;
   ASSERT_EQ(BuildLocalBundleProblem(rec, t, opt, &p), LocalHessianStatus::kOk);
@@ -120,12 +120,12 @@ TEST(CauchyLocalHessian, EqualsInverseOfCameraBlockOfDenseCovariance) {
   std::vector<Eigen::Vector3d> points = p.points;
   for (const LocalObservation& o : p.observations)
     problem.AddResidualBlock(ReprojectionError::Create(p.cameras[o.view], poses[o.view].R0, o.pixel),
-                             new ceres::CauchyLoss(p.huber_px), poses[o.view].x.data(), points[o.point].data());
+                             p.loss.CreateLossFunction(), poses[o.view].x.data(), points[o.point].data());
   double ceres_cost = 0.0;
   ASSERT_TRUE(problem.Evaluate(ceres::Problem::EvaluateOptions(), &ceres_cost, nullptr, nullptr, nullptr));
-  const double cap = opt.cauchy_max_reprojection_px / p.huber_px;
+  const double cap = opt.cauchy_max_reprojection_px / p.loss.scale;
   const int dropped = p.num_candidate_observations - static_cast<int>(p.observations.size());
-  EXPECT_NEAR(RobustCost(p), 2.0 * ceres_cost + dropped * p.huber_px * p.huber_px * std::log1p(cap * cap),
+  EXPECT_NEAR(RobustCost(p), 2.0 * ceres_cost + dropped * p.loss.scale * p.loss.scale * std::log1p(cap * cap),
               1e-9 * RobustCost(p));
 }
 

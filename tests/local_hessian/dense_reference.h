@@ -26,7 +26,7 @@ inline Eigen::MatrixXd DenseCovariance(const LocalBundleProblem& p, const Eigen:
   for (const LocalObservation& o : p.observations)
     problem.AddResidualBlock(
         ReprojectionError::Create(p.cameras[o.view], poses[o.view].R0, o.pixel),
-        new ceres::ScaledLoss(MakeRobustLoss(p.loss, p.huber_px), p.observation_weight, ceres::TAKE_OWNERSHIP),
+        new ceres::ScaledLoss(p.loss.CreateLossFunction(), p.observation_weight, ceres::TAKE_OWNERSHIP),
         poses[o.view].x.data(), points[o.point].data());
   ceres::Problem::EvaluateOptions eo;
   eo.parameter_blocks = blocks;

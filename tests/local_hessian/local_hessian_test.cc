@@ -39,7 +39,7 @@ double CostWithPointsOptimised(const LocalBundleProblem& p, const std::vector<Po
   for (const LocalObservation& o : p.observations)
     problem.AddResidualBlock(
         ReprojectionError::Create(p.cameras[o.view], blocks[o.view].R0, o.pixel),
-        new ceres::ScaledLoss(new ceres::HuberLoss(p.huber_px), p.observation_weight * o.weight,
+        new ceres::ScaledLoss(p.loss.CreateLossFunction(), p.observation_weight * o.weight,
                               ceres::TAKE_OWNERSHIP),
         blocks[o.view].x.data(), points[o.point].data());
   ceres::Solver::Options so;
@@ -84,7 +84,7 @@ TEST(LocalHessian, EqualsInverseOfCameraBlockOfDenseCovariance) {
     const ReprojectionError e(p.cameras[o.view], p.poses[o.view].R0, o.pixel);
     double r[2];
     e(p.poses[o.view].x.data(), p.points[o.point].data(), r);
-    outside_huber += std::hypot(r[0], r[1]) > p.huber_px;
+    outside_huber += std::hypot(r[0], r[1]) > p.loss.scale;
   }
   EXPECT_GT(outside_huber, 10);
   const Eigen::MatrixXd cov = DenseCovariance(p, prior.P);

@@ -46,8 +46,8 @@ Outcome RunPointBased(const SyntheticScene& s, const std::map<uint32_t, Pose>& s
   BundleAdjustmentProblem problem;
   ChooseGauge(model, &problem);
   BundleAdjusterOptions o;
-  o.loss = loss;
-  o.log_progress = std::getenv("PGBA_BA_LOG") != nullptr;  // Ceres progress, for diagnosis
+  o.loss.type = ParseLossType(loss);
+  o.solver.log_progress = std::getenv("PGBA_BA_LOG") != nullptr;  // Ceres progress, for diagnosis
   Outcome out;
   if (prefilter) std::printf("  gross outliers removed before the first pass: %zu\n", FilterObservations(4.0, &model));
   for (int pass = 0; pass < 2; ++pass) {

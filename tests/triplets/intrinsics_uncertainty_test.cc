@@ -68,8 +68,8 @@ TEST(IntrinsicsUncertainty, PredictsTheScatterOfTheTripletBAsFocalAndK) {
   problem.gauge_scale = 3;
   problem.free_intrinsics = SelectFreeIntrinsics(truth.cameras, IntrinsicsOptions());
   BundleAdjusterOptions ba;
-  ba.loss = "trivial";  // the prediction is that of plain least squares
-  ba.function_tolerance = 1e-12;
+  ba.loss.type = LossType::kTrivial;  // the prediction is that of plain least squares
+  ba.solver.function_tolerance = 1e-12;
   for (int t = 0; t < trials; ++t) {
     Reconstruction rec = truth;
     for (auto& [id, im] : rec.images)

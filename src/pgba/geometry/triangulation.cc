@@ -1,4 +1,5 @@
 #include "pgba/geometry/triangulation.h"
+#include "pgba/io/option_ranges.h"
 
 #include <ceres/jet.h>
 
@@ -363,6 +364,12 @@ TriangulatedPoint TriangulateTrackFrom(const std::vector<TrackView>& views, cons
   Candidate best = RobustRefine(views, start.X, opt);
   if (!best.ok || best.inliers < static_cast<size_t>(start.support)) return TriangulateTrack(views, opt);
   return Accepted(views, std::move(best), opt);
+}
+
+std::string TriangulationOptions::Check() const {
+  return CheckRangesAt({{"huber_px", huber_px}, {"outlier_px", outlier_px}, {"max_iterations", max_iterations},
+                       {"min_angle_deg", min_angle_deg}},
+                      "TriangulationOptions");
 }
 
 }  // namespace pgba

@@ -4,6 +4,8 @@
 // by an outlier observation.
 #pragma once
 
+#include <string>
+
 #include <Eigen/Core>
 #include <limits>
 #include <vector>
@@ -31,6 +33,9 @@ struct TriangulationOptions {
   // Minimum triangulation angle (degrees) between the two most separated rays; below it the
   // depth is unobservable and the track is rejected.
   double min_angle_deg = 0.0;
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
 
 struct TriangulatedPoint {

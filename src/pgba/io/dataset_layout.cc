@@ -57,4 +57,8 @@ void WriteDatasetLayout(const Reconstruction& gt, const std::map<std::string, st
   WriteColmapText(poses, (root / "gt").string());
 }
 
+std::string DatasetLayoutOptions::Check() const {
+  return "";  // a switch: every value is valid
+}
+
 }  // namespace pgba

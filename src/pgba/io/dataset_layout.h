@@ -17,6 +17,9 @@ struct DatasetLayoutOptions {
   // Copy the photos instead of linking them (links keep the originals' space; copies survive
   // moving or deleting the download).
   bool copy_images = false;
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
 
 // `gt` holds the cameras and the images (name = file name inside OUT/images/, pose);

@@ -221,6 +221,32 @@ Table BuildTable() {
   t["gcp.default_sigma"] = kPositive;
   t["gcp.huber_sigmas"] = Unbounded();  // <= 0: plain least squares
   t["gcp.min_angle_deg"] = kMinAngleDeg;
+  // Options structs that are no config section, under their struct's name (their Check()).
+  t["OutlierInjectionOptions.fraction"] = kFraction;  // averaging/outlier_injection.h
+  t["OutlierInjectionOptions.seed"] = Unbounded();
+  t["SigmaOptions.inlier_px"] = kPositive;  // evaluation/sigma.h
+  t["SigmaOptions.huber_px"] = kPositive;
+  t["SigmaOptions.max_iterations"] = kNonNegative;
+  t["GroundTruthOptions.outlier_factor"] = kPositive;  // evaluation/ground_truth.h: x the median error
+  t["GroundTruthOptions.max_rounds"] = kNonNegative;
+  t["TriangulationOptions.huber_px"] = kPositive;  // geometry/triangulation.h
+  t["TriangulationOptions.outlier_px"] = kPositive;
+  t["TriangulationOptions.max_iterations"] = kNonNegative;
+  t["TriangulationOptions.min_angle_deg"] = kMinAngleDeg;
+  t["ProceduralTextureOptions.largest_cell"] = kAtLeastOne;  // synthetic/procedural_texture.h
+  for (const char* density : {"blobs_per_10k", "texts_per_10k", "lines_per_10k", "blur_sigma"})
+    t[std::string("ProceduralTextureOptions.") + density] = kNonNegative;
+  t["ProceduralTextureOptions.min_blob"] = kPositive;
+  t["ProceduralTextureOptions.max_blob"] = kPositive;
+  t["EssentialRansacOptions.threshold_angle"] = kPositive;  // matching/essential_ransac.h, radians
+  t["EssentialRansacOptions.max_iterations"] = kAtLeastOne;
+  t["EssentialRansacOptions.confidence"] = kProbability;
+  t["EssentialRansacOptions.min_iterations"] = kNonNegative;
+  t["PlotOptions.width"] = kAtLeastOne;  // benchmark/svg_plot.h, pixels
+  t["PlotOptions.height"] = kAtLeastOne;
+  t["WholeTrackMotionOptions.max_views"] = AtLeast(2);  // local_hessian/whole_track_motions.h
+  t["WholeTrackMotionOptions.min_tracks"] = kAtLeastOne;
+  t["BenchmarkOptions.outlier_sweep[]"] = kFraction;  // benchmark/benchmark.h
   return t;
 }
 
@@ -246,41 +272,56 @@ const std::map<std::string, std::vector<std::string>>& ChoiceTable() {
       t[prefix + ".scoring"] = MethodNames(kPoseScoringNames);   // RelativePoseOptions::scoring
       t[prefix + ".algorithm"] = MethodNames(kPoseSolverNames);  // RelativePoseOptions::algorithm
     }
-    t["local_hessian.loss"] = {"huber", "cauchy", "trivial"};  // MakeRobustLoss (optim/bundle_adjuster.h)
+    // LossType names (optim/loss_function_options.h) these estimators are written for.
+    t["local_hessian.loss"] = {"huber", "cauchy", "trivial"};
+    for (const std::string prefix : {"triplets.bundle_adjuster", "point_based.bundle"}) {  // BundleAdjusterOptions
+      t[prefix + ".loss"] = {"huber", "cauchy", "trivial"};
+      t[prefix + ".linear_solver"] = {"auto", "dense_schur", "sparse_schur", "iterative_schur"};
+    }
+    t["matching.descriptors.method"] = {"cascade_hashing", "kdtree"};  // matching/descriptor_matcher.h
+    t["EssentialRansacOptions.algorithm"] = MethodNames(kPoseSolverNames);
+    t["point_based.first_pass_loss"] = {"", "huber", "cauchy", "trivial"};  // "": the bundle's loss
     return t;
   }();
   return table;
 }
 
-void CheckChoice(const nlohmann::json& value, const std::string& path, const std::string& origin) {
-  const auto it = ChoiceTable().find(path);
-  if (it == ChoiceTable().end()) return;
-  const std::string v = value.get<std::string>();
-  for (const std::string& c : it->second)
-    if (v == c) return;
-  std::string list;
-  for (const std::string& c : it->second) list += (list.empty() ? "" : ", ") + c;
-  ThrowInputError(origin, 0, path + " = " + value.dump() + " is not one of: " + list);
-}
-
-void CheckValue(const nlohmann::json& value, const std::string& path, const std::string& origin) {
+// The first value of `value` (at dotted `path`) outside its range or choices: "KEY = VALUE is
+// out of range (RANGE)" / "KEY = VALUE is not one of: A, B", KEY without the first `strip`
+// characters of the path; empty if every value is valid.
+std::string FirstInvalid(const nlohmann::json& value, const std::string& path, size_t strip) {
   if (value.is_object()) {
-    for (const auto& [key, child] : value.items()) CheckValue(child, path.empty() ? key : path + "." + key, origin);
-    return;
+    for (const auto& [key, child] : value.items()) {
+      const std::string m = FirstInvalid(child, path.empty() ? key : path + "." + key, strip);
+      if (!m.empty()) return m;
+    }
+    return "";
   }
   if (value.is_array()) {
-    for (const nlohmann::json& element : value) CheckValue(element, path + "[]", origin);
-    return;
+    for (const nlohmann::json& element : value) {
+      const std::string m = FirstInvalid(element, path + "[]", strip);
+      if (!m.empty()) return m;
+    }
+    return "";
   }
-  if (value.is_string()) CheckChoice(value, path, origin);
-  if (!value.is_number()) return;
+  const std::string key = path.substr(std::min(strip, path.size()));
+  if (value.is_string()) {
+    const auto it = ChoiceTable().find(path);
+    if (it == ChoiceTable().end()) return "";
+    const std::string v = value.get<std::string>();
+    std::string list;
+    for (const std::string& c : it->second) {
+      if (v == c) return "";
+      list += (list.empty() ? "" : ", ") + c;
+    }
+    return key + " = " + value.dump() + " is not one of: " + list;
+  }
+  if (!value.is_number()) return "";
   const std::optional<OptionRange> range = RangeOfOption(path);
-  if (range && !range->Contains(value.get<double>())) {
-    const std::string bounds = range->Describe();  // "[0, 1]", "(0, 1)" or "> 0"
-    const bool bracketed = bounds[0] == '[' || bounds[0] == '(';
-    ThrowInputError(origin, 0,
-                    path + " = " + value.dump() + " is out of range " + (bracketed ? bounds : "(" + bounds + ")"));
-  }
+  if (!range || range->Contains(value.get<double>())) return "";
+  const std::string bounds = range->Describe();  // "[0, 1]", "(0, 1)" or "> 0"
+  const bool bracketed = bounds[0] == '[' || bounds[0] == '(';
+  return key + " = " + value.dump() + " is out of range " + (bracketed ? bounds : "(" + bounds + ")");
 }
 
 }  // namespace
@@ -304,6 +345,13 @@ std::optional<OptionRange> RangeOfOption(const std::string& dotted_path) {
   return it->second;
 }
 
-void CheckOptionRanges(const nlohmann::json& root, const std::string& origin) { CheckValue(root, "", origin); }
+void CheckOptionRanges(const nlohmann::json& root, const std::string& origin) {
+  const std::string invalid = FirstInvalid(root, "", 0);
+  if (!invalid.empty()) ThrowInputError(origin, 0, invalid);
+}
+
+std::string CheckRangesAt(const nlohmann::json& options, const std::string& section) {
+  return FirstInvalid(options, section, section.size() + 1);
+}
 
 }  // namespace pgba

@@ -34,4 +34,15 @@ std::optional<OptionRange> RangeOfOption(const std::string& dotted_path);
 // Keys without an entry are not checked here (the coverage test keeps that set empty).
 void CheckOptionRanges(const nlohmann::json& root, const std::string& origin);
 
+// The Check() of an Options struct, from the same table: its serialised fields checked under
+// `section` (its config path, e.g. "local_hessian", or for a struct that is no config section
+// its table prefix, e.g. "SyntheticOptions"). The first invalid value as one line naming the
+// key relative to the section and its range ("huber_px = -1 is out of range (> 0)"), empty
+// when all are valid.
+std::string CheckRangesAt(const nlohmann::json& options, const std::string& section);
+template <typename Options>
+std::string CheckRanges(const Options& options, const std::string& section) {
+  return CheckRangesAt(nlohmann::json(options), section);
+}
+
 }  // namespace pgba

@@ -58,4 +58,8 @@ void WritePly(const Reconstruction& rec, const std::string& path, const PlyOptio
   });
 }
 
+std::string PlyOptions::Check() const {
+  return "";  // switches and a colour: every value is valid
+}
+
 }  // namespace pgba

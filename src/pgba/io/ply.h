@@ -19,6 +19,9 @@ struct PlyOptions {
   bool camera_centers = true;
   // Colour of the camera-centre vertices (magenta: rare in real scenes).
   Eigen::Matrix<uint8_t, 3, 1> camera_color = Eigen::Matrix<uint8_t, 3, 1>(255, 0, 255);
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
 
 // Vertices: points3D in id order, then (if enabled) camera centres in image-id order.

@@ -12,17 +12,12 @@
 #include <stdexcept>
 #include <thread>
 
+#include "pgba/io/option_ranges.h"
+#include "pgba/optim/ceres_solver_options.h"
 #include "pgba/optim/pose_parameterization.h"
 #include "pgba/util/timer.h"
 
 namespace pgba {
-
-ceres::LossFunction* MakeRobustLoss(const std::string& name, double scale_px) {
-  if (name == "huber") return new ceres::HuberLoss(scale_px);
-  if (name == "cauchy") return new ceres::CauchyLoss(scale_px);
-  if (name == "trivial") return nullptr;
-  throw std::invalid_argument("unknown robust loss '" + name + "' (huber, cauchy, trivial)");
-}
 
 namespace {
 
@@ -58,8 +53,6 @@ class OffsetSphereManifold final : public ceres::Manifold {
   Eigen::Vector3d c_;
   ceres::SphereManifold<3> sphere_;
 };
-
-ceres::LossFunction* MakeLoss(const BundleAdjusterOptions& o) { return MakeRobustLoss(o.loss, o.loss_scale_px); }
 
 ceres::LinearSolverType ChooseLinearSolver(const BundleAdjusterOptions& o, int free_poses, bool constant_points) {
   // Without free points there is nothing to eliminate: a pose-only problem.
@@ -117,8 +110,13 @@ nlohmann::json ToJson(const BundleAdjustmentSummary& s) {
           {"message", s.message}};
 }
 
+// Its ranges and names are those of its config sections (point_based.bundle, triplets.bundle_adjuster).
+std::string BundleAdjusterOptions::Check() const { return CheckRanges(*this, "point_based.bundle"); }
+
 BundleAdjustmentSummary BundleAdjust(const BundleAdjustmentProblem& problem, const BundleAdjusterOptions& options,
                                      Reconstruction* rec) {
+  if (const std::string invalid = options.Check(); !invalid.empty())
+    throw std::invalid_argument("bundle adjuster options: " + invalid);
   Timer timer;
   BundleAdjustmentSummary summary;
   const std::set<uint32_t> images(problem.image_ids.begin(), problem.image_ids.end());
@@ -132,7 +130,7 @@ BundleAdjustmentSummary BundleAdjust(const BundleAdjustmentProblem& problem, con
   ceres::Problem::Options problem_options;
   problem_options.loss_function_ownership = ceres::TAKE_OWNERSHIP;
   ceres::Problem ceres_problem(problem_options);
-  ceres::LossFunction* loss = MakeLoss(options);  // shared by every residual; owned by the problem
+  ceres::LossFunction* loss = options.loss.CreateLossFunction();  // shared by every residual; owned by the problem
   std::map<uint32_t, PoseBlock> blocks;
   std::vector<double*> point_blocks;
   // The estimated cameras' parameters (copies, written back after the solve).
@@ -200,25 +198,15 @@ BundleAdjustmentSummary BundleAdjust(const BundleAdjustmentProblem& problem, con
     }
   }
 
-  ceres::Solver::Options solver;
-  solver.linear_solver_type = ChooseLinearSolver(options, summary.num_free_poses, problem.constant_points);
-  if (ceres::IsSchurType(solver.linear_solver_type)) {
-    // No explicit ordering: Ceres then picks the eliminated blocks as a maximal independent
-    // set in the order the blocks were added (ComputeStableSchurOrdering: the points, each
-    // seen by few poses), deterministic. An explicit ParameterBlockOrdering orders each
-    // group by address, and the addresses of map nodes (the points of *rec, the pose
-    // blocks) depend on the heap's history, hence on the thread that ran the adjustment:
-    // the last bits of every triplet then changed with the thread count.
-  }
-  if (solver.linear_solver_type == ceres::ITERATIVE_SCHUR) solver.preconditioner_type = ceres::SCHUR_JACOBI;
-  solver.max_num_iterations = options.max_iterations;
-  solver.function_tolerance = options.function_tolerance;
-  solver.gradient_tolerance = options.gradient_tolerance;
-  solver.parameter_tolerance = options.parameter_tolerance;
-  solver.num_threads = options.num_threads > 0 ? options.num_threads
-                                               : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  solver.minimizer_progress_to_stdout = options.log_progress;
-  solver.logging_type = options.log_progress ? ceres::PER_MINIMIZER_ITERATION : ceres::SILENT;
+  SolverOptions solver_options = options.solver;
+  solver_options.linear_solver_type = ChooseLinearSolver(options, summary.num_free_poses, problem.constant_points);
+  // No explicit ordering for the Schur solvers: Ceres then picks the eliminated blocks as a
+  // maximal independent set in the order the blocks were added (ComputeStableSchurOrdering:
+  // the points, each seen by few poses), deterministic. An explicit ParameterBlockOrdering
+  // orders each group by address, and the addresses of map nodes (the points of *rec, the
+  // pose blocks) depend on the heap's history, hence on the thread that ran the adjustment:
+  // the last bits of every triplet then changed with the thread count.
+  ceres::Solver::Options solver = CeresSolverOptions(solver_options);
   std::unique_ptr<CallbackAdapter> callback;
   if (problem.callback) {
     callback = std::make_unique<CallbackAdapter>(problem, blocks, rec);

@@ -18,46 +18,50 @@
 #include <vector>
 
 #include "pgba/optim/intrinsics.h"
+#include "pgba/optim/loss_function_options.h"
+#include "pgba/optim/solver_options.h"
 #include "pgba/scene/reconstruction.h"
-
-namespace ceres {
-class LossFunction;
-}
+#include "pgba/util/json_fields.h"
 
 namespace pgba {
 
-// The robust loss `name` at `scale_px` (pixels), owned by the caller: "huber", "cauchy", or
-// "trivial" (nullptr: plain least squares); std::invalid_argument for another name. One
-// object gives every user the cost rho(s) and the IRLS weight rho'(s) of a squared residual s
-// (its Evaluate), so no caller writes the loss out by hand.
-ceres::LossFunction* MakeRobustLoss(const std::string& name, double scale_px);
-
 struct BundleAdjusterOptions {
-  // Robust loss on each observation's 2-vector residual: "huber" (default), "cauchy" or
-  // "trivial" (plain least squares).
-  std::string loss = "huber";
-  // Scale of the robust loss in pixels (Huber: residual norm where it turns linear).
-  double loss_scale_px = 1.0;
+  // Robust loss on each observation's 2-vector residual, scale in pixels (Huber: the
+  // residual norm where it turns linear). Config keys "loss" ("huber", "cauchy" or
+  // "trivial") and "loss_scale_px".
+  LossFunctionOptions loss = {LossType::kHuber, 1.0};
   // "auto": DENSE_SCHUR up to `dense_schur_max_poses` free poses, SPARSE_SCHUR above (the
   // well-configured solver of a fair point-based baseline); or "dense_schur",
-  // "sparse_schur", "iterative_schur" (SCHUR_JACOBI preconditioner) explicitly.
+  // "sparse_schur", "iterative_schur" (SCHUR_JACOBI preconditioner) explicitly. Chosen per
+  // problem: it sets solver.linear_solver_type.
   std::string linear_solver = "auto";
   int dense_schur_max_poses = 40;
-  // Levenberg-Marquardt stopping criteria (Ceres' meanings).
-  int max_iterations = 100;
-  double function_tolerance = 1e-6;
-  double gradient_tolerance = 1e-10;
-  double parameter_tolerance = 1e-8;
-  // Ceres threads. 1 (default): results are bit-identical from run to run; with more, Ceres
-  // sums the cost, gradient and Schur complement over dynamically scheduled chunks, whose
-  // order changes the last bits (1e-10 in the poses). 0 = all hardware threads.
-  int num_threads = 1;
-  // Print Ceres' per-iteration progress to stdout.
-  bool log_progress = false;
+  // Levenberg-Marquardt: max_iterations 100, function_tolerance 1e-6, gradient_tolerance
+  // 1e-10, parameter_tolerance 1e-8; num_threads 1 (results bit-identical from run to run;
+  // 0 = all hardware threads); log_progress false. Config keys: the field names.
+  SolverOptions solver = [] {
+    SolverOptions s;
+    s.max_iterations = 100;
+    return s;
+  }();
+
+  // Empty when valid, else one line naming the field and its valid range.
+  std::string Check() const;
 };
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(BundleAdjusterOptions, loss, loss_scale_px, linear_solver,
-                                                dense_schur_max_poses, max_iterations, function_tolerance,
-                                                gradient_tolerance, parameter_tolerance, num_threads, log_progress)
+template <class Visit>
+void JsonFields(BundleAdjusterOptions& o, Visit&& visit) {
+  visit("loss", o.loss.type);
+  visit("loss_scale_px", o.loss.scale);
+  visit("linear_solver", o.linear_solver);
+  visit("dense_schur_max_poses", o.dense_schur_max_poses);
+  visit("max_iterations", o.solver.max_iterations);
+  visit("function_tolerance", o.solver.function_tolerance);
+  visit("gradient_tolerance", o.solver.gradient_tolerance);
+  visit("parameter_tolerance", o.solver.parameter_tolerance);
+  visit("num_threads", o.solver.num_threads);
+  visit("log_progress", o.solver.log_progress);
+}
+PGBA_JSON_FROM_FIELDS(BundleAdjusterOptions)
 
 // State handed to the iteration callback after each accepted or rejected LM step. `state`
 // is the Reconstruction being adjusted with the current poses and points written into it
@@ -112,8 +116,8 @@ struct BundleAdjustmentSummary {
 nlohmann::json ToJson(const BundleAdjustmentSummary& summary);
 
 // Adjusts `rec` in place: poses of the free participating images, xyz of the participating
-// points and the free intrinsics of their cameras. Throws std::invalid_argument for an unknown loss/solver name or a
-// gauge image without observations.
+// points and the free intrinsics of their cameras. Throws std::invalid_argument for options that fail Check() or a gauge
+// image without observations.
 BundleAdjustmentSummary BundleAdjust(const BundleAdjustmentProblem& problem, const BundleAdjusterOptions& options,
                                      Reconstruction* rec);
 

@@ -1,4 +1,5 @@
 #include "pgba/optim/intrinsics.h"
+#include "pgba/io/option_ranges.h"
 
 #include <Eigen/Cholesky>
 #include <algorithm>
@@ -174,6 +175,11 @@ ceres::CostFunction* CreateReprojectionErrorWithIntrinsics(CameraModel model, co
       return make(std::integral_constant<int, 8>());
   }
   throw std::invalid_argument("camera model with an unexpected parameter count");
+}
+
+std::string IntrinsicsOptions::Check() const {
+  if (const std::string m = CheckRanges(*this, "intrinsics"); !m.empty()) return m;
+  return "";
 }
 
 }  // namespace pgba

@@ -5,6 +5,8 @@
 // pointless global BA) uses the same selection, so that their unknowns agree.
 #pragma once
 
+#include <string>
+
 #include <ceres/ceres.h>
 
 #include <Eigen/Core>
@@ -53,6 +55,9 @@ struct IntrinsicsOptions {
   // the rotation error falls 1.3-4.8x (Sim3) and 1.2-3.8x (gauge-free) on every one of them.
   // Applies to the adjustments after the triplets (a triplet never frees it).
   bool refine_principal_point_without_calibration = true;
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(IntrinsicsOptions, cameras, refine_focal_length,
                                                 refine_principal_point, refine_extra_params,

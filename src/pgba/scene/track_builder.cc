@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <numeric>
 
+#include "pgba/io/option_ranges.h"
 #include "pgba/util/error.h"
 
 namespace pgba {
@@ -138,6 +139,11 @@ Reconstruction BuildTracks(const std::map<uint32_t, Camera>& cameras, const std:
   st.mean_track_length = st.num_tracks ? static_cast<double>(st.num_observations) / st.num_tracks : 0.0;
   if (stats) *stats = st;
   return rec;
+}
+
+std::string TrackBuilderOptions::Check() const {
+  if (const std::string m = CheckRanges(*this, "matching.tracks"); !m.empty()) return m;
+  return "";
 }
 
 }  // namespace pgba

@@ -38,6 +38,9 @@ struct PairMatches {
 struct TrackBuilderOptions {
   // Tracks seen in fewer images are dropped (2 keeps every verified match).
   int min_track_length = 2;
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc) or breaking a rule between fields.
+  std::string Check() const;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(TrackBuilderOptions, min_track_length)
 
