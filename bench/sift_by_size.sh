@@ -16,7 +16,8 @@
 #   the Middlebury rings); the implementation and max_image_size are set on top of it.
 # Environment: PGBA (default: newest build*/bin/pgba), SIZES (default "640 1024 1400 1728
 #   2160 3072": 0.27 / 0.70 / 1.31 / 1.99 / 3.11 / 6.29 MP on a 3072 x 2048 photo),
-#   KEEP=DIR keeps the runs there (default: a temporary folder, removed).
+#   KEEP=DIR keeps the runs there (default: a temporary folder, removed); a re-run with the same
+#   KEEP skips the runs already there (and so only prints the table once all are done).
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 source "$here/bench/lib.sh"
@@ -27,6 +28,7 @@ if [[ -n "${KEEP:-}" ]]; then tmp=$KEEP; mkdir -p "$tmp"; else tmp=$(mktemp -d /
 run_one() {  # DATASET CONFIG IMPL SIZE: one run and its evaluation into $tmp/NAME_SIZE_IMPL
   local ds=$1 base=$2 impl=$3 size=$4 out
   out="$tmp/$(basename "$ds")_${size}_$impl"
+  [[ -n "${KEEP:-}" && -f "$out/report.json" && -f "$out.load" ]] && return  # done in an earlier run of KEEP
   python3 - "$base" "$impl" "$size" >"$out.json" <<'PY'
 import json, sys
 cfg = json.load(open(sys.argv[1])) if sys.argv[1] else {}
@@ -63,7 +65,7 @@ for arg in "$@"; do
     if [[ -d "$a/sparse" && -d "$b/sparse" ]]; then
       "$PGBA" -v 0 evaluate "$b/sparse" --obs "$b/tracks" --gt "$a/sparse" --json "$b.cross.json" >/dev/null 2>&1 || true
     fi
-    rows+=("$(basename "$ds") $s")
+    rows+=("$(basename "$ds") $s $side")
   done
 done
 
@@ -82,7 +84,7 @@ print("dataset | max_image_size | MP | SIFT | features/image | verified pairs | 
       "| CPU s/image features | load after")
 print("|".join(["---"] * 16))
 for row in rows:
-    name, size = row.split()
+    name, size, side = row.split()
     for impl in ("opencv", "pgba"):
         run = f"{tmp}/{name}_{size}_{impl}"
         rep, ev = load(f"{run}/report.json"), load(f"{run}.eval.json")
@@ -90,7 +92,8 @@ for row in rows:
         st = rep.get("stages", {})
         f, m = st.get("features", {}), st.get("match", {})
         n = f.get("images", 0) or 1
-        mp = f.get("megapixels_extracted", nan) / n
+        # Detection megapixels: the full images' scaled by max_image_size.
+        mp = f.get("megapixels_extracted", nan) / n * min(1.0, int(size) / int(side)) ** 2
         cross = ""
         if impl == "pgba":
             c = load(f"{run}.cross.json")

@@ -229,7 +229,7 @@ void FindSiftExtrema(const SiftScaleSpace& ss, int octave, const SiftDetectionOp
   // Refinements that end on the same sample give the same keypoint (its values depend on that
   // sample only). OpenCV removes such duplicates (KeyPointsFilter::removeDuplicatedSorted:
   // equal position, size and angle) before its cap; kept, each is two identical descriptors in
-  // one image, and Lowe's ratio test then rejects every match of either (0.3-1% of the
+  // one image, and Lowe's ratio test then rejects every match of either (0.1-1% of the
   // keypoints of the Middlebury rings and of a Strecha photo). The first one is kept.
   std::set<std::tuple<int, int, int>> seen;
   const auto end = std::remove_if(extrema->begin() + first, extrema->end(), [&](const SiftExtremum& e) {

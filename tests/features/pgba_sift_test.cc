@@ -122,7 +122,7 @@ TEST(PgbaSift, SameDetectorDescriptorAndRepeatabilityAsOpenCvOnARealPhoto) {
 // OpenCV drops keypoints equal in position, size and angle (two extrema whose refinements end
 // on the same sample) before its cap; pgba's did not, and each duplicate is two identical
 // descriptors in one image, which Lowe's ratio test rejects in every match (16 of 1637 on
-// this Middlebury image before the fix, 0.3-1% on the rings and on Strecha photos). With the
+// this Middlebury image before the fix, 0.1-1% on the rings and on Strecha photos). With the
 // duplicates dropped the two implementations find the same number of keypoints: 1621 each
 // here, 0-3 apart on every image of both rings.
 TEST(PgbaSift, NoDuplicateKeypointsAndOpenCvsCountOnASmallImage) {
@@ -202,13 +202,13 @@ TEST(PgbaSift, ImplementationIsValidatedAndInTheCacheKey) {
   // so OpenCV's keeps the key its caches were written with.
   const SiftOptions automatic;
   EXPECT_EQ(SiftOptionsForImage(automatic, 640, 480).implementation, "opencv");
-  EXPECT_EQ(SiftOptionsForImage(automatic, 1024, 768).implementation, "opencv");
-  EXPECT_EQ(SiftOptionsForImage(automatic, 1920, 1080).implementation, "pgba");  // 2.07 MP
+  EXPECT_EQ(SiftOptionsForImage(automatic, 800, 600).implementation, "opencv");  // 0.48 MP
+  EXPECT_EQ(SiftOptionsForImage(automatic, 1024, 768).implementation, "pgba");   // 0.79 MP
   EXPECT_EQ(SiftOptionsForImage(automatic, 3072, 2048).implementation, "pgba");
   EXPECT_EQ(SiftOptionsForImage(automatic, 8000, 6000).implementation, "pgba");  // detected at 3200 x 2400
   SiftOptions small = automatic;
-  small.max_image_size = 1000;
-  EXPECT_EQ(SiftOptionsForImage(small, 3072, 2048).implementation, "opencv");  // detected at 1000 x 667
+  small.max_image_size = 640;
+  EXPECT_EQ(SiftOptionsForImage(small, 3072, 2048).implementation, "opencv");  // detected at 640 x 427
   EXPECT_EQ(SiftOptionsKey(SiftOptionsForImage(automatic, 640, 480)), SiftOptionsKey(a));
   EXPECT_EQ(SiftOptionsKey(SiftOptionsForImage(automatic, 3072, 2048)), SiftOptionsKey(b));
   EXPECT_EQ(SiftOptionsForImage(b, 640, 480).implementation, "pgba");  // explicit choices stand
