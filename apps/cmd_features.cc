@@ -32,7 +32,7 @@ void RegisterFeatures(CLI::App& app) {
       ->check(InConfigRange("features.sift.max_image_size"))
       ->capture_default_str();
   sub->add_option("--sift-implementation", args->options.sift.implementation,
-                  "SIFT implementation: pgba (own, parallel inside an image), opencv, or auto (pgba from 2 MP)")
+                  "SIFT implementation: pgba (own, parallel inside an image), opencv, or auto (pgba from 0.5 MP)")
       ->check(CLI::IsMember({"auto", "pgba", "opencv"}))
       ->capture_default_str();
   sub->add_flag("!--no-cache", args->options.use_cache, "recompute even where cached features exist");

@@ -4,7 +4,7 @@
 #   before   the front end of main 25ebad3: OpenCV SIFT, FLANN kd-forest (4 trees, 32 checks), no
 #            buffer reuse between images (features.reuse_buffers false)
 #   kdtree   today's defaults but the kd-forest instead of cascade hashing
-#   default  today's defaults (buffer reuse, cascade hashing, SIFT "auto": pgba's from 2 MP,
+#   default  today's defaults (buffer reuse, cascade hashing, SIFT "auto": pgba's from 0.5 MP,
 #            OpenCV's below)
 #   opencv   defaults + features.sift.implementation "opencv" (OpenCV 4.6's SIFT, the
 #            same algorithm as pgba's, its pyramid on one thread)

@@ -162,8 +162,11 @@ FeatureSet ExtractSift(const cv::Mat& gray, const SiftOptions& requested) {
 
 std::string SiftOptionsKey(const SiftOptions& options) {
   std::ostringstream s;
-  // The OpenCV implementation keeps the key it always had (its caches stay valid).
-  s << "sift1" << (options.implementation == "opencv" ? "" : " impl=" + options.implementation) << " n=" << options.max_features << " root=" << options.root_sift << " max=" << options.max_image_size
+  // The OpenCV implementation keeps the key it always had (its caches stay valid). pgba's is
+  // "pgba2" since it drops duplicate keypoints as OpenCV does: a cache written before holds
+  // them, and is recomputed instead of reused.
+  const std::string impl = options.implementation == "pgba" ? "pgba2" : options.implementation;
+  s << "sift1" << (options.implementation == "opencv" ? "" : " impl=" + impl) << " n=" << options.max_features << " root=" << options.root_sift << " max=" << options.max_image_size
     << " c=" << options.contrast_threshold << " e=" << options.edge_threshold
     << (options.first_octave == -1 ? "" : " o=" + std::to_string(options.first_octave))
     << (options.target_features <= 0

@@ -13,19 +13,22 @@
 namespace pgba {
 
 // Detection images (after max_image_size) of at least this many megapixels get pgba's SIFT
-// under implementation "auto", smaller ones OpenCV's.
-constexpr double kAutoPgbaSiftMinMegapixels = 2.0;
+// under implementation "auto", smaller ones OpenCV's: between the sizes measured, 0.31 MP
+// (where dino_sparse_ring's weak view graph fares worse with pgba's) and 0.70 MP (as accurate).
+constexpr double kAutoPgbaSiftMinMegapixels = 0.5;
 
 struct SiftOptions {
   // Which SIFT: "opencv" (cv::SIFT of OpenCV 4.6, which builds its pyramid on one thread),
   // "pgba" (pgba_sift.h: the same algorithm with the pyramid, the extrema and the
   // descriptors parallel inside one image) or "auto" (the default): pgba's from
-  // kAutoPgbaSiftMinMegapixels on, OpenCV's below. By measurement (README "Measured:
-  // front-end speed (issue 16)"): on the 6 MP Strecha photos pgba's takes 0.5-0.6x OpenCV's
-  // CPU time with rotation errors as good; it is faster at 0.3-1.7 MP too (fountain
-  // downscaled), but on the 0.3 MP rings (temple) the worst rotation error is larger and three
-  // whole-pipeline tests on 640x480 images miss their bars with it, not understood yet; the
-  // accuracy between 0.8 and 6 MP was not measured.
+  // kAutoPgbaSiftMinMegapixels on, OpenCV's below. By measurement (README "Session 18:
+  // pgba's SIFT by image size", bench/sift_by_size.sh): on the Strecha sets downscaled to
+  // 0.27-6.3 MP pgba's takes 0.52-0.87x OpenCV's CPU time and the final rotation errors are
+  // equal within their noise (a few thousandths of a degree either way); on the 0.31 MP
+  // Middlebury rings temple is equal within the verification seeds' spread (its worst image
+  // no longer worse since the duplicate keypoints went), but dino_sparse_ring's weakly
+  // textured ring takes in a wrong weak pair with it on 3 of 5 seeds (with OpenCV's on 1 of
+  // 5), so small images keep OpenCV's.
   std::string implementation = "auto";
   // Keep at most this many keypoints (the strongest responses); COLMAP's default.
   int max_features = 8192;

@@ -6,6 +6,8 @@
 #include <cfloat>
 #include <cmath>
 #include <numeric>
+#include <set>
+#include <tuple>
 #include <vector>
 
 #include "features/gradient_polar.h"
@@ -221,8 +223,19 @@ void FindSiftExtrema(const SiftScaleSpace& ss, int octave, const SiftDetectionOp
   std::vector<std::vector<std::vector<SiftExtremum>>> found(blocks.size());
   tbb::parallel_for(size_t(0), blocks.size(), [&](size_t i) { SearchBlock(ss, blocks[i], options, &found[i]); });
   // In the order (layer, row, column), whatever the blocks' order of completion.
+  const size_t first = extrema->size();
   for (int l = 0; l < ss.layers_per_octave; ++l)
     for (const auto& block : found) extrema->insert(extrema->end(), block[l].begin(), block[l].end());
+  // Refinements that end on the same sample give the same keypoint (its values depend on that
+  // sample only). OpenCV removes such duplicates (KeyPointsFilter::removeDuplicatedSorted:
+  // equal position, size and angle) before its cap; kept, each is two identical descriptors in
+  // one image, and Lowe's ratio test then rejects every match of either (0.1-1% of the
+  // keypoints of the Middlebury rings and of a Strecha photo). The first one is kept.
+  std::set<std::tuple<int, int, int>> seen;
+  const auto end = std::remove_if(extrema->begin() + first, extrema->end(), [&](const SiftExtremum& e) {
+    return !seen.emplace(e.kp.layer, e.row, e.col).second;
+  });
+  extrema->erase(end, extrema->end());
 }
 
 std::vector<SiftKeypoint> OrientSiftExtrema(const SiftScaleSpace& ss, const std::vector<SiftExtremum>& extrema,

@@ -42,7 +42,8 @@ struct SiftExtremum {
 
 // The extrema of one octave, every layer of it present (DoG layers 1..s, refined), appended
 // in the order (layer, row, column) whatever the number of threads: the search runs in
-// parallel over fixed blocks of rows whose results are concatenated in block order.
+// parallel over fixed blocks of rows whose results are concatenated in block order. Extrema
+// whose refinements end on the same sample are kept once (the first), as OpenCV does.
 void FindSiftExtrema(const SiftScaleSpace& ss, int octave, const SiftDetectionOptions& options,
                      std::vector<SiftExtremum>* extrema);
 

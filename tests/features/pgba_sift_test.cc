@@ -5,8 +5,11 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
+#include <tuple>
+#include <vector>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -107,13 +110,35 @@ TEST(PgbaSift, SameDetectorDescriptorAndRepeatabilityAsOpenCvOnARealPhoto) {
             << ours_in_theirs << " of pgba's, " << theirs_in_ours << " of opencv's; " << same
             << " same oriented keypoints, descriptor distance " << mean_dist << "; repeatability pgba " << rep_ours
             << ", opencv " << rep_theirs << std::endl;
-  EXPECT_GT(ours.size(), 0.95 * theirs.size());
-  EXPECT_LT(ours.size(), 1.05 * theirs.size());
+  // 5043 vs 5046 measured (5066 while pgba's kept the 23 duplicate keypoints OpenCV drops).
+  EXPECT_LE(std::abs(static_cast<double>(ours.size()) - theirs.size()), 0.002 * theirs.size());
   EXPECT_GT(ours_in_theirs, 0.9);
   EXPECT_GT(theirs_in_ours, 0.9);
   EXPECT_GT(same, 100);
   EXPECT_LT(mean_dist, 20.0);
   EXPECT_GE(rep_ours, rep_theirs - 0.005);
+}
+
+// OpenCV drops keypoints equal in position, size and angle (two extrema whose refinements end
+// on the same sample) before its cap; pgba's did not, and each duplicate is two identical
+// descriptors in one image, which Lowe's ratio test rejects in every match (16 of 1637 on
+// this Middlebury image before the fix, 0.1-1% on the rings and on Strecha photos). With the
+// duplicates dropped the two implementations find the same number of keypoints: 1621 each
+// here, 0-3 apart on every image of both rings.
+TEST(PgbaSift, NoDuplicateKeypointsAndOpenCvsCountOnASmallImage) {
+  const fs::path file = fs::path(PGBA_SHARED_DIR) / "datasets" / "temple_sparse_ring" / "images" / "templeSR0002.png";
+  const cv::Mat img = cv::imread(file.string(), cv::IMREAD_GRAYSCALE);
+  if (img.empty()) GTEST_SKIP() << "temple_sparse_ring not in shared/datasets";
+  const FeatureSet ours = ExtractSift(img, Implementation("pgba"));
+  const FeatureSet theirs = ExtractSift(img, Implementation("opencv"));
+  std::vector<std::tuple<float, float, float, float>> keys;
+  for (const Keypoint& k : ours.keypoints) keys.emplace_back(k.x, k.y, k.scale, k.orientation);
+  std::sort(keys.begin(), keys.end());
+  const size_t duplicates = keys.size() - (std::unique(keys.begin(), keys.end()) - keys.begin());
+  std::cout << "templeSR0002: pgba " << ours.size() << " keypoints (" << duplicates << " duplicates), opencv "
+            << theirs.size() << std::endl;
+  EXPECT_EQ(duplicates, 0u);
+  EXPECT_LE(std::abs(static_cast<double>(ours.size()) - theirs.size()), 0.002 * theirs.size());
 }
 
 TEST(PgbaSift, ByteIdenticalForAnyThreadCount) {
@@ -177,13 +202,13 @@ TEST(PgbaSift, ImplementationIsValidatedAndInTheCacheKey) {
   // so OpenCV's keeps the key its caches were written with.
   const SiftOptions automatic;
   EXPECT_EQ(SiftOptionsForImage(automatic, 640, 480).implementation, "opencv");
-  EXPECT_EQ(SiftOptionsForImage(automatic, 1024, 768).implementation, "opencv");
-  EXPECT_EQ(SiftOptionsForImage(automatic, 1920, 1080).implementation, "pgba");  // 2.07 MP
+  EXPECT_EQ(SiftOptionsForImage(automatic, 800, 600).implementation, "opencv");  // 0.48 MP
+  EXPECT_EQ(SiftOptionsForImage(automatic, 1024, 768).implementation, "pgba");   // 0.79 MP
   EXPECT_EQ(SiftOptionsForImage(automatic, 3072, 2048).implementation, "pgba");
   EXPECT_EQ(SiftOptionsForImage(automatic, 8000, 6000).implementation, "pgba");  // detected at 3200 x 2400
   SiftOptions small = automatic;
-  small.max_image_size = 1000;
-  EXPECT_EQ(SiftOptionsForImage(small, 3072, 2048).implementation, "opencv");  // detected at 1000 x 667
+  small.max_image_size = 640;
+  EXPECT_EQ(SiftOptionsForImage(small, 3072, 2048).implementation, "opencv");  // detected at 640 x 427
   EXPECT_EQ(SiftOptionsKey(SiftOptionsForImage(automatic, 640, 480)), SiftOptionsKey(a));
   EXPECT_EQ(SiftOptionsKey(SiftOptionsForImage(automatic, 3072, 2048)), SiftOptionsKey(b));
   EXPECT_EQ(SiftOptionsForImage(b, 640, 480).implementation, "pgba");  // explicit choices stand
