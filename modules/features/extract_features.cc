@@ -10,6 +10,7 @@
 
 #include "features/buffer_pool.h"
 #include "features/feature_file.h"
+#include "pgba/io/option_ranges.h"
 #include "pgba/util/error.h"
 #include "pgba/util/logging.h"
 #include "pgba/util/progress.h"
@@ -99,10 +100,16 @@ FileOutcome ProcessFile(const fs::path& file, const std::string& feature_path, c
 
 }  // namespace
 
+std::string FeatureExtractionOptions::Check() const {
+  if (const std::string m = CheckRanges(*this, "features"); !m.empty()) return m;
+  if (const std::string m = sift.Check(); !m.empty()) return "sift." + m;
+  return "";
+}
+
 FeatureExtractionResult ExtractFeatures(const std::string& images_dir, const CalibrationInput& calibration,
                                         const std::string& workspace, const FeatureExtractionOptions& options) {
   Timer timer;
-  ValidateSiftOptions(options.sift);
+  if (const std::string problem = options.Check(); !problem.empty()) throw InputError("features." + problem);
   const ImageCatalog catalog = BuildImageCatalog(images_dir, calibration);
   fs::create_directories(FeaturesDir(workspace));
 

@@ -24,6 +24,10 @@ struct FeatureExtractionOptions {
   // Keep the large OpenCV buffers of a finished image for the next one (buffer_pool.h)
   // instead of returning them to the system; false only to measure what that saves.
   bool reuse_buffers = true;
+
+  // Empty when valid, else one line naming the first invalid field ("sift.max_features = 0 is
+  // out of range (>= 1)"; the table of io/option_ranges.cc under "features").
+  std::string Check() const;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(FeatureExtractionOptions, sift, use_cache, max_parallel_images,
                                                 reuse_buffers)

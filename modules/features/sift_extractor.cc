@@ -9,6 +9,7 @@
 #include <string>
 
 #include "features/pgba_sift.h"
+#include "pgba/io/option_ranges.h"
 #include "pgba/util/error.h"
 #include "pgba/util/text_format.h"
 
@@ -41,15 +42,14 @@ double DetectionScale(int width, int height, const SiftOptions& options) {
   return static_cast<double>(max_side) / options.max_image_size;
 }
 
-void ValidateSiftOptions(const SiftOptions& o) {
-  if (o.implementation != "auto" && o.implementation != "pgba" && o.implementation != "opencv")
-    throw InputError("features.sift.implementation = \"" + o.implementation +
-                     "\": must be \"auto\", \"pgba\" or \"opencv\"");
-  if (o.first_octave != -1 && o.first_octave != 0)
-    throw InputError("features.sift.first_octave = " + std::to_string(o.first_octave) + ": must be -1 or 0");
-  if (o.target_features > 0 && o.min_contrast_threshold > o.contrast_threshold)
-    throw InputError("features.sift.min_contrast_threshold = " + std::to_string(o.min_contrast_threshold) +
-                     ": must not exceed contrast_threshold (" + std::to_string(o.contrast_threshold) + ")");
+std::string SiftOptions::Check() const {
+  if (const std::string m = CheckRanges(*this, "features.sift"); !m.empty()) return m;
+  if (implementation != "auto" && implementation != "pgba" && implementation != "opencv")
+    return "implementation = \"" + implementation + "\": must be \"auto\", \"pgba\" or \"opencv\"";
+  if (target_features > 0 && min_contrast_threshold > contrast_threshold)
+    return "min_contrast_threshold = " + std::to_string(min_contrast_threshold) + ": must not exceed contrast_threshold (" +
+           std::to_string(contrast_threshold) + ")";
+  return "";
 }
 
 SiftOptions SiftOptionsForImage(const SiftOptions& options, int width, int height) {
@@ -64,7 +64,8 @@ SiftOptions SiftOptionsForImage(const SiftOptions& options, int width, int heigh
 
 FeatureSet ExtractSift(const cv::Mat& gray, const SiftOptions& requested) {
   CV_Assert(gray.type() == CV_8UC1);
-  ValidateSiftOptions(requested);
+  if (const std::string problem = requested.Check(); !problem.empty())
+    throw InputError("features.sift." + problem);
   const SiftOptions options = SiftOptionsForImage(requested, gray.cols, gray.rows);
   FeatureSet out;
   out.width = gray.cols;

@@ -58,6 +58,10 @@ struct SiftOptions {
   // FeatureSet::contrast_threshold records where each image ended.
   int target_features = 0;
   double min_contrast_threshold = 0.0025;
+
+  // Empty when valid, else one line naming the first field out of its range (the table of
+  // io/option_ranges.cc under "features.sift") or breaking a rule between fields.
+  std::string Check() const;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(SiftOptions, implementation, max_features, root_sift, max_image_size,
                                                 contrast_threshold, edge_threshold, first_octave, target_features,
@@ -66,9 +70,6 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(SiftOptions, implementation, max
 // Full-resolution pixels per detection pixel for an image of this size (1 if not downscaled
 // by max_image_size; the first-octave mode does not change it).
 double DetectionScale(int width, int height, const SiftOptions& options);
-
-// Throws InputError naming the option when one is out of its valid range.
-void ValidateSiftOptions(const SiftOptions& options);
 
 // The options with implementation "auto" resolved for an image of this size ("pgba" or
 // "opencv"; the others as they are): what ExtractSift runs on it and what its cache key says.

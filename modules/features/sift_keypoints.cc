@@ -13,6 +13,7 @@
 #include "features/gradient_polar.h"
 #include "features/sift_extrema_scan.h"
 #include "features/separable_gaussian.h"
+#include "pgba/io/option_ranges.h"
 
 namespace pgba {
 namespace {
@@ -285,5 +286,7 @@ std::vector<SiftKeypoint> OrientSiftExtrema(const SiftScaleSpace& ss, const std:
   for (const auto& o : oriented) all.insert(all.end(), o.begin(), o.end());
   return all;
 }
+
+std::string SiftDetectionOptions::Check() const { return CheckRanges(*this, "SiftDetectionOptions"); }
 
 }  // namespace pgba

@@ -4,6 +4,8 @@
 // and one keypoint per dominant gradient orientation (36-bin histogram, peaks >= 0.8 max).
 #pragma once
 
+#include <nlohmann/json.hpp>
+#include <string>
 #include <vector>
 
 #include "features/sift_scale_space.h"
@@ -30,7 +32,12 @@ struct SiftDetectionOptions {
   // max_features-th oriented keypoint (ties included). The caller's cap then selects exactly
   // what it would from all of them. <= 0: every extremum is oriented.
   int max_features = 0;
+
+  // Empty when valid, else the first field out of its range ("SiftDetectionOptions" in the
+  // table of io/option_ranges.cc).
+  std::string Check() const;
 };
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(SiftDetectionOptions, contrast_threshold, edge_threshold, max_features)
 
 // A refined extremum before its orientations: kp without an angle, and the integer sample
 // (row, col of its layer) where the refinement ended, around which the orientation

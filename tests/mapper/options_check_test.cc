@@ -12,6 +12,8 @@
 #include "benchmark/benchmark.h"
 #include "benchmark/svg_plot.h"
 #include "evaluation/evaluation.h"
+#include "features/extract_features.h"
+#include "features/sift_keypoints.h"
 #include "local_hessian/whole_track_motions.h"
 #include "mapper/run_pipeline.h"
 #include "matching/essential_ransac.h"
@@ -57,6 +59,9 @@ int ExpectEachFieldOutOfRangeRefused(const std::string& section) {
 
 TEST(OptionsCheck, EveryConfigSectionRefusesEachFieldOutOfItsRange) {
   int n = 0;
+  n += ExpectEachFieldOutOfRangeRefused<FeatureExtractionOptions>("features");
+  n += ExpectEachFieldOutOfRangeRefused<SiftOptions>("features.sift");
+  n += ExpectEachFieldOutOfRangeRefused<SiftDetectionOptions>("SiftDetectionOptions");
   n += ExpectEachFieldOutOfRangeRefused<MatchingOptions>("matching");
   n += ExpectEachFieldOutOfRangeRefused<PairSelectionOptions>("matching.pairs");
   n += ExpectEachFieldOutOfRangeRefused<VladOptions>("matching.pairs.vlad");

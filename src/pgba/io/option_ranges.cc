@@ -222,6 +222,9 @@ Table BuildTable() {
   t["gcp.huber_sigmas"] = Unbounded();  // <= 0: plain least squares
   t["gcp.min_angle_deg"] = kMinAngleDeg;
   // Options structs that are no config section, under their struct's name (their Check()).
+  t["SiftDetectionOptions.contrast_threshold"] = kPositive;  // features/sift_keypoints.h
+  t["SiftDetectionOptions.edge_threshold"] = kPositive;
+  t["SiftDetectionOptions.max_features"] = Unbounded();  // <= 0: every extremum oriented
   t["OutlierInjectionOptions.fraction"] = kFraction;  // averaging/outlier_injection.h
   t["OutlierInjectionOptions.seed"] = Unbounded();
   t["SigmaOptions.inlier_px"] = kPositive;  // evaluation/sigma.h
