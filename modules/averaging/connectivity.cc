@@ -60,10 +60,6 @@ std::set<uint32_t> LargestViewGraphComponent(const std::vector<TwoViewGeometry>&
   return component;
 }
 
-bool HasDistinctImages(const LocalMotion& t) {
-  return t.image_ids[0] != t.image_ids[1] && t.image_ids[0] != t.image_ids[2] && t.image_ids[1] != t.image_ids[2];
-}
-
 std::vector<int> LargestTripletComponent(const std::vector<LocalMotion>& triplets) {
   const int n = static_cast<int>(triplets.size());
   UnionFind uf(n);

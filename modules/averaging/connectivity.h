@@ -53,7 +53,4 @@ std::vector<int> LargestTripletComponent(const std::vector<LocalMotion>& triplet
 // Images covered by the given triplets.
 std::set<uint32_t> ImagesOfTriplets(const std::vector<LocalMotion>& triplets, const std::vector<int>& indices);
 
-// True if the triplet's three image ids are pairwise distinct.
-bool HasDistinctImages(const LocalMotion& triplet);
-
 }  // namespace pgba

@@ -108,9 +108,7 @@ LocalMotion ReadMotionEntry(const Reader& reader, const Reconstruction& tracks, 
     t.image_ids.push_back(reader.Image(names[v], ids[v], where));
     t.local_poses.push_back(reader.PoseOf(poses[v], where + ".local_poses[" + std::to_string(v) + "]"));
   }
-  std::vector<uint32_t> sorted = t.image_ids;
-  std::sort(sorted.begin(), sorted.end());
-  if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) reader.Fail(where, "repeated image");
+  if (!HasDistinctImages(t)) reader.Fail(where, "repeated image");
   const json& track_ids = reader.Field(e, "track_ids", where);
   if (!track_ids.is_array()) reader.Fail(where, "\"track_ids\" must be an array");
   for (const json& id : track_ids) {

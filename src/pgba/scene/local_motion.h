@@ -36,4 +36,12 @@ struct LocalMotion {
   int num_views() const { return static_cast<int>(image_ids.size()); }
 };
 
+// No image twice among the motion's views (a malformed or hostile input can repeat one).
+inline bool HasDistinctImages(const LocalMotion& motion) {
+  for (size_t a = 0; a < motion.image_ids.size(); ++a)
+    for (size_t b = a + 1; b < motion.image_ids.size(); ++b)
+      if (motion.image_ids[a] == motion.image_ids[b]) return false;
+  return true;
+}
+
 }  // namespace pgba
