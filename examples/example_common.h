@@ -89,7 +89,7 @@ inline std::vector<LocalMotion> RingTriplets(const Reconstruction& tracks, const
 // run to convergence: x0_s is each triplet's own optimum and h_s is taken there.
 inline LocalHessianResult TripletHessians(const Reconstruction& tracks, const std::vector<LocalMotion>& triplets) {
   LocalHessianOptions options;
-  options.max_iterations = 20;
+  options.solver.max_iterations = 20;
   return ComputeLocalHessians(tracks, triplets, options);
 }
 

@@ -144,7 +144,7 @@ GlobalBAResult CheckedRelinearization(const Reconstruction& tracks, const LocalH
   GlobalBAOptions pointless = options;
   pointless.weighting = TripletWeighting::kHessian;
   LocalHessianOptions at_solution = lh_options;
-  at_solution.max_iterations = 0;
+  at_solution.solver.max_iterations = 0;
   const ObservationShares shares = SharesOf(tracks, motions, at_solution);
 
   // A solve whose solution is re-linearised next stops at the looser tolerance.
@@ -270,7 +270,7 @@ GlobalBAResult RobustThenChecked(const Reconstruction& tracks, const LocalHessia
   // The configured models where the Cauchy passes ended (the others as given).
   Timer retake;
   LocalHessianOptions at_solution = lh_options;
-  at_solution.max_iterations = 0;
+  at_solution.solver.max_iterations = 0;
   Models models(motions, hessians);
   models.Adopt(RelinearizeAt(tracks, at_solution, &shares, motions, models, r));
   const double retake_seconds = retake.Seconds();
@@ -318,7 +318,7 @@ GlobalBAResult RelinearizedGlobalBA(const Reconstruction& tracks, const LocalHes
     PGBA_LOG_INFO << "global BA: misfit " << total.misfit_ratio << " (local models disagree with their consensus): "
                   << "re-linearising the local hessians at the solution";
     LocalHessianOptions at_solution = lh_options;
-    at_solution.max_iterations = 0;  // h and g where the solution puts the motion, points re-triangulated
+    at_solution.solver.max_iterations = 0;  // h and g where the solution puts the motion, points re-triangulated
     const ObservationShares shares = SharesOf(tracks, motions, at_solution);
     // The frames carry the local frame of each re-linearised model (its similarity from the
     // solution), for SimilarityInit::kFromTriplet.

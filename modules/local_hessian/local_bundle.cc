@@ -233,8 +233,8 @@ LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const L
   return LocalHessianStatus::kOk;
 }
 
-bool SolveLocalBundle(int max_iterations, LocalBundleProblem* p, bool fix_gauge) {
-  if (max_iterations > 0) {
+bool SolveLocalBundle(const SolverOptions& solver, LocalBundleProblem* p, bool fix_gauge) {
+  if (solver.max_iterations > 0) {
     // The robust loss on the pixel error, then the attenuation weight on the squared residual:
     // one loss object per distinct weight (1, or 1/n with shared_observation_weighting), shared
     // by the observations that have it.
@@ -272,10 +272,6 @@ bool SolveLocalBundle(int max_iterations, LocalBundleProblem* p, bool fix_gauge)
       problem.AddResidualBlock(new PosePriorCost(A, p->prior_center), nullptr, blocks);
     }
     if (fix_gauge && p->poses.size() >= 2) HoldPoseAndScale(&p->poses[0], &p->poses[1], &problem);
-    // Dense Schur on the points, one thread (the motions are solved in parallel).
-    SolverOptions solver;
-    solver.linear_solver_type = ceres::DENSE_SCHUR;
-    solver.max_iterations = max_iterations;
     ceres::Solver::Options so = CeresSolverOptions(solver);
     auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
     for (auto& X : p->points) ordering->AddElementToGroup(X.data(), 0);

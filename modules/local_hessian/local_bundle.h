@@ -90,14 +90,15 @@ LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const L
                                            const ObservationShares* shares = nullptr,
                                            const FreeIntrinsics* free = nullptr);
 
-// Runs `max_iterations` Levenberg-Marquardt iterations (Ceres, DENSE_SCHUR, single thread:
-// motions are parallelised outside) on poses, points and the free intrinsics, then re-linearises the poses
+// Runs the solve `solver` describes (LocalBundleSolverOptions: Levenberg-Marquardt, DENSE_SCHUR
+// with the points eliminated first, single thread) on poses, points and the free intrinsics
+// (nothing when solver.max_iterations is 0), then re-linearises the poses
 // (omega folded into R0) so that h is taken in the chart centred at the solution. False if
 // Ceres could not evaluate the problem.
 // With `fix_gauge` the first pose and the largest baseline coordinate of the second are held
 // (a BA that must converge from afar, local_motions.h; the local Hessian's single step runs
 // gauge-free instead, so that h is the plain normal matrix).
-bool SolveLocalBundle(int max_iterations, LocalBundleProblem* problem, bool fix_gauge = false);
+bool SolveLocalBundle(const SolverOptions& solver, LocalBundleProblem* problem, bool fix_gauge = false);
 
 // Median depth of the observed points in their cameras (local frame units).
 double MedianDepth(const LocalBundleProblem& problem);

@@ -62,7 +62,7 @@ LocalHessian ComputeLocalHessian(const Reconstruction& tracks, const LocalMotion
     const int n = 6 * problem.num_views();  // the pose prior of the local BA: pose rows only
     problem.prior = ComputeGaugePrior(h_in.h, problem.poses, MedianDepth(problem), options).P.topLeftCorner(n, n);
   }
-  if (!SolveLocalBundle(options.max_iterations, &problem)) {
+  if (!SolveLocalBundle(options.solver, &problem)) {
     out.status = LocalHessianStatus::kSolverFailure;
     return out;
   }

@@ -21,6 +21,7 @@
 #include "pgba/geometry/pose.h"
 #include "pgba/optim/intrinsics.h"
 #include "pgba/optim/loss_function_options.h"
+#include "pgba/optim/solver_options.h"
 #include "pgba/scene/reconstruction.h"
 #include "pgba/scene/view_graph.h"
 #include "pgba/util/json_fields.h"
@@ -75,10 +76,20 @@ NLOHMANN_JSON_SERIALIZE_ENUM(HessianFactor, {{HessianFactor::kEigen, "eigen"}, {
 // Number of motions that use each observation (image id, track id).
 using ObservationShares = std::map<std::pair<uint32_t, uint64_t>, int>;
 
+// The local BA's Ceres solve: dense Schur on the points, one thread (the motions are solved
+// in parallel outside), `max_iterations` Levenberg-Marquardt iterations.
+inline SolverOptions LocalBundleSolverOptions(int max_iterations) {
+  SolverOptions solver;
+  solver.linear_solver_type = ceres::DENSE_SCHUR;
+  solver.max_iterations = max_iterations;
+  return solver;
+}
+
 struct LocalHessianOptions {
-  // Levenberg-Marquardt iterations of the local BA (paper: a single iteration from the
-  // triplet BA's solution). More iterations converge x0 further.
-  int max_iterations = 1;
+  // The local BA's solve; config key "max_iterations" (solver.max_iterations): its
+  // Levenberg-Marquardt iterations (paper: a single iteration from the triplet BA's solution;
+  // more converge x0 further, 0 takes h at the input poses).
+  SolverOptions solver = LocalBundleSolverOptions(1);
   // Attenuation: each observation's squared residual is weighted by gamma / M with
   // gamma = M Q / (M + Q), i.e. by Q / (M + Q), M the triplet's number of points: every
   // triplet then weighs like ~Q points (paper, implementation details). Q <= 0 or +inf
@@ -135,7 +146,7 @@ struct LocalHessianOptions {
 };
 template <class Visit>
 void JsonFields(LocalHessianOptions& o, Visit&& visit) {
-  visit("max_iterations", o.max_iterations);
+  visit("max_iterations", o.solver.max_iterations);
   visit("attenuation_q", o.attenuation_q);
   visit("loss", o.loss.type);
   visit("huber_px", o.loss.scale);

@@ -96,7 +96,7 @@ void ConvergeLocalMotions(const Reconstruction& tracks, const LocalHessianOption
     LocalMotion& m = (*motions)[i];
     LocalBundleProblem problem;
     if (BuildLocalBundleProblem(tracks, m, lh_options, &problem) != LocalHessianStatus::kOk) return;
-    if (!SolveLocalBundle(options.max_iterations, &problem, /*fix_gauge=*/true)) return;
+    if (!SolveLocalBundle(options.solver, &problem, /*fix_gauge=*/true)) return;
     for (int k = 0; k < m.num_views(); ++k) m.local_poses[k] = problem.poses[k].ToPose();
   });
 }

@@ -27,8 +27,10 @@
 #include "modules/local_hessian/local_hessian.h"
 #include "modules/local_hessian/whole_track_motions.h"
 #include "pgba/geometry/pose.h"
+#include "pgba/optim/solver_options.h"
 #include "pgba/scene/reconstruction.h"
 #include "pgba/scene/view_graph.h"
+#include "pgba/util/json_fields.h"
 
 namespace pgba {
 
@@ -55,9 +57,10 @@ struct LocalMotionOptions {
   int views = 7;
   // A neighbour must share at least this many tracks with the motion's image.
   int min_shared_tracks = 30;
-  // Levenberg-Marquardt iterations of each pass of the local BA that takes an N-view motion
-  // from the initial poses to its own optimum (stops earlier on Ceres' tolerances).
-  int max_iterations = 30;
+  // The local BA that takes an N-view motion from the initial poses to its own optimum; config
+  // key "max_iterations" (solver.max_iterations): its Levenberg-Marquardt iterations (stops
+  // earlier on Ceres' tolerances).
+  SolverOptions solver = LocalBundleSolverOptions(30);
   // One family of motions per stride s: the image and every s-th of its neighbours ranked by
   // shared tracks (s = 1: the nearest ones; larger s: a motion spread over a longer stretch
   // of the tracks, which catches the long tracks that a window of near neighbours cuts).
@@ -87,10 +90,20 @@ struct LocalMotionOptions {
   // ranges of io/option_ranges.cc) or breaking a rule between fields.
   std::string Check() const;
 };
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(LocalMotionOptions, kind, max_views, min_tracks, views,
-                                                min_shared_tracks, max_iterations, neighbour_strides,
-                                                triplet_start_misfit, triplet_start_max_iterations,
-                                                triplet_start_max_per_image)
+template <class Visit>
+void JsonFields(LocalMotionOptions& o, Visit&& visit) {
+  visit("kind", o.kind);
+  visit("max_views", o.max_views);
+  visit("min_tracks", o.min_tracks);
+  visit("views", o.views);
+  visit("min_shared_tracks", o.min_shared_tracks);
+  visit("max_iterations", o.solver.max_iterations);
+  visit("neighbour_strides", o.neighbour_strides);
+  visit("triplet_start_misfit", o.triplet_start_misfit);
+  visit("triplet_start_max_iterations", o.triplet_start_max_iterations);
+  visit("triplet_start_max_per_image", o.triplet_start_max_per_image);
+}
+PGBA_JSON_FROM_FIELDS(LocalMotionOptions)
 
 // Whether the motions' start must come from the triplets' pointless BA and be converged by
 // their own local BA (kNeighbours: local_motions.h above). Whole-track motions need neither:
@@ -107,7 +120,7 @@ std::vector<LocalMotion> SelectLocalMotions(const Reconstruction& tracks, const 
                                             const LocalMotionOptions& options);
 
 // Runs each motion's local BA (paper eq. 1; local_bundle.h with `lh_options`' robust loss and
-// gross outlier threshold, gauge held) for up to options.max_iterations and stores the
+// gross outlier threshold, gauge held) for up to options.solver.max_iterations and stores the
 // solution in local_poses. The poses must start within the threshold of the truth (a view
 // whose observations are all dropped as outliers stays where it started). A motion whose problem cannot be built or solved keeps its poses (the local
 // Hessian stage then rejects it with its reason). Parallel over motions (TBB).

@@ -54,7 +54,7 @@ std::map<uint32_t, Pose> TripletPointlessStart(const Reconstruction& tracks, con
   const std::vector<LocalMotion> triplets = TripletStartSubset(all_triplets, max_per_image);
   // The triplets come converged from their own BA (triplet stage): h is taken where they are.
   LocalHessianOptions paper_lh;
-  paper_lh.max_iterations = 0;
+  paper_lh.solver.max_iterations = 0;
   GlobalBAOptions paper_ba;
   paper_ba.max_rounds = 1;
   paper_ba.max_relinearizations = 0;

@@ -65,7 +65,6 @@ PointlessMapperResult ReadMapperWorkspace(const Reconstruction& tracks, const st
     WorkspaceMotions motions = ReadMotions(WorkspaceMotionsPath(ws), tracks);
     out.hessians.motions = std::move(motions.motions);
     out.hessians.triplet_rotation_misfit = motions.triplet_rotation_misfit;
-    out.hessians.triplet_start = !motions.linearization_poses.empty();
     out.hessians.linearization_poses = std::move(motions.linearization_poses);
     out.hessians.result = ReadLocalHessians(hessians, tracks, out.hessians.motions);
     nlohmann::json& stage = timer.Stop();
@@ -79,8 +78,7 @@ PointlessMapperResult ReadMapperWorkspace(const Reconstruction& tracks, const st
 void WriteReconstruction(const std::string& out, const Reconstruction& tracks, const PointlessMapperResult& result) {
   WriteGlobalMapperWorkspace(out, tracks, result.initial);
   WriteMotions(WorkspaceMotionsPath(out), tracks,
-               {result.hessians.motions, result.hessians.triplet_rotation_misfit,
-                result.hessians.triplet_start ? result.hessians.linearization_poses : std::map<uint32_t, Pose>()});
+               {result.hessians.motions, result.hessians.triplet_rotation_misfit, result.hessians.linearization_poses});
   WriteLocalHessians(WorkspaceLocalHessiansPath(out), tracks, result.hessians.result);
   WriteColmapText(result.model, (fs::path(out) / "sparse").string());
   WritePly(result.model, (fs::path(out) / "points.ply").string());

@@ -133,7 +133,7 @@ PreparedHessians ComputeMotionHessians(const Reconstruction& tracks, const Globa
   stage["rejected"] = LocalHessianStatusCounts(h.result);
   stage["rejected"].erase(LocalHessianStatusName(LocalHessianStatus::kOk));
   stage["triplet_rotation_misfit"] = h.triplet_rotation_misfit;
-  stage["triplet_start"] = h.triplet_start;
+  stage["triplet_start"] = h.triplet_start();
   return h;
 }
 

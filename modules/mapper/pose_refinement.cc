@@ -17,7 +17,7 @@ LocalHessianOptions WholeTrackLocalHessianOptions() {
   LocalHessianOptions o;
   o.attenuation_q = 0.0;
   o.min_eigenvalue_ratio = 0.0;
-  o.max_iterations = 0;
+  o.solver.max_iterations = 0;
   o.factor = HessianFactor::kLdlt;
   return o;
 }
@@ -66,11 +66,11 @@ void MeasureTripletStart(const Reconstruction& tracks, const std::map<uint32_t, 
                          const std::vector<LocalMotion>& triplets, const LocalMotionOptions& options,
                          PreparedHessians* hessians) {
   hessians->triplet_rotation_misfit = TripletRotationMisfit(tracks, initial, triplets);
-  hessians->triplet_start = hessians->triplet_rotation_misfit > options.triplet_start_misfit;
+  const bool far = hessians->triplet_rotation_misfit > options.triplet_start_misfit;
   PGBA_LOG_INFO << "local motions: initial poses " << hessians->triplet_rotation_misfit
                 << " triplet residuals off their triplets' rotations"
-                << (hessians->triplet_start ? ": linearised at the triplets' pointless BA instead" : "");
-  if (hessians->triplet_start)
+                << (far ? ": linearised at the triplets' pointless BA instead" : "");
+  if (far)
     hessians->linearization_poses = TripletPointlessStart(tracks, initial, triplets, options.triplet_start_max_iterations,
                                                           options.triplet_start_max_per_image);
 }
@@ -94,7 +94,7 @@ PreparedHessians PrepareLocalHessians(const Reconstruction& tracks, const std::m
     for (const auto& [id, pose] : refined.poses) start[id] = pose;
   } else if (options.local_motions.kind == MotionKind::kWholeTracks && options.local_motions.triplet_start_misfit > 0) {
     MeasureTripletStart(tracks, initial, triplets, options.local_motions, &out);
-    if (out.triplet_start) start = out.linearization_poses;
+    if (out.triplet_start()) start = out.linearization_poses;
   }
   out.motions = BuildLocalMotions(tracks, start, triplets, options.local_hessian, options.local_motions);
   const FreeIntrinsics free = SelectRefinedIntrinsics(tracks, options);
@@ -178,7 +178,7 @@ RefinementResult RefineOnMotions(const char* method, const Reconstruction& track
   if (record_history) callback = [&history](const GlobalBAIteration& it) { history.push_back(*it.poses); };
   // Far from the triplets the motions were linearised at the triplets' pointless BA, which is
   // where the global BA starts too.
-  const std::map<uint32_t, Pose>& start = hessians.triplet_start ? hessians.linearization_poses : initial;
+  const std::map<uint32_t, Pose>& start = hessians.triplet_start() ? hessians.linearization_poses : initial;
   RefinementResult r = RefinementOfGlobalBA(tracks, hessians, options, adjust(start, callback));
   r.history = std::move(history);
   CheckRefinedCameras(r);
@@ -192,7 +192,7 @@ RefinementResult RefinePointless(const Reconstruction& tracks, const std::map<ui
   // The local Hessians re-linearised at the solution (global_ba.h); their passes count as
   // adjustment time.
   GlobalBAOptions pointless = options.global_ba;
-  if (hessians.triplet_start) pointless.max_relinearizations = pointless.max_relinearizations_far_start;
+  if (hessians.triplet_start()) pointless.max_relinearizations = pointless.max_relinearizations_far_start;
   GlobalBASummary summary;
   RefinementResult r = RefineOnMotions(
       "pointless", tracks, initial, hessians, options, record_history,
@@ -207,7 +207,7 @@ RefinementResult RefinePointless(const Reconstruction& tracks, const std::map<ui
   r.details["relinearizations"] = summary.relinearizations;
   r.details["relinearization_seconds"] = summary.relinearization_seconds;
   r.details["triplet_rotation_misfit"] = hessians.triplet_rotation_misfit;
-  r.details["triplet_start"] = hessians.triplet_start;
+  r.details["triplet_start"] = hessians.triplet_start();
   if (gcps) r.details["gcp_residuals"] = summary.num_gcp_residuals;
   return r;
 }

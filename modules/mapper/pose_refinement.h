@@ -110,21 +110,21 @@ struct PreparedHessians {
   LocalHessianResult result;  // one per motion
   double seconds = 0.0;
   double peak_rss_mb = 0.0;
-  // Whole-track motions: TripletRotationMisfit of the initial poses, and whether the motions
-  // were linearised at the triplets' pointless BA because it exceeded
-  // local_motions.triplet_start_misfit (linearization_start.h).
+  // Whole-track motions: TripletRotationMisfit of the initial poses.
   double triplet_rotation_misfit = 0.0;
-  bool triplet_start = false;
-  // With triplet_start: the poses the motions were linearised at (the triplets' pointless BA),
-  // where the pointless global BA starts too, so that its first checked step is measured
-  // against the cost where its models were taken.
+  // When that misfit exceeded local_motions.triplet_start_misfit (linearization_start.h): the
+  // poses the motions were linearised at (the triplets' pointless BA), where the pointless
+  // global BA starts too, so that its first checked step is measured against the cost where
+  // its models were taken. Empty otherwise.
   std::map<uint32_t, Pose> linearization_poses;
+  // Whether the motions were linearised at the triplets' pointless BA (not the initial poses).
+  bool triplet_start() const { return !linearization_poses.empty(); }
 };
 PreparedHessians PrepareLocalHessians(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
                                       const std::vector<LocalMotion>& triplets, const RefinementOptions& options);
-// Sets hessians->triplet_rotation_misfit and triplet_start from `initial`, and when it is set
-// the linearization_poses (the flag also decides the global BA's start and passes: a workspace
-// re-run that reads the local Hessians sets them again).
+// Sets hessians->triplet_rotation_misfit from `initial`, and when it exceeds the threshold the
+// linearization_poses (which also decide the global BA's start and passes: a workspace re-run
+// reads them back from motions.json).
 void MeasureTripletStart(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
                          const std::vector<LocalMotion>& triplets, const LocalMotionOptions& options,
                          PreparedHessians* hessians);

@@ -173,7 +173,7 @@ inline TripletsWithHessians BuildTripletsWithHessians(const Reconstruction& rec,
   TripletsWithHessians out;
   out.triplets = MakeRingTriplets(rec, window, closed, rng);
   LocalHessianOptions triplet_ba = options;
-  triplet_ba.max_iterations = 20;
+  triplet_ba.solver.max_iterations = 20;
   const LocalHessianResult refined = ComputeLocalHessians(rec, out.triplets, triplet_ba);
   for (size_t i = 0; i < out.triplets.size(); ++i)
     if (refined.hessians[i].status == LocalHessianStatus::kOk)

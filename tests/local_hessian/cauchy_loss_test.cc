@@ -101,10 +101,10 @@ TEST(CauchyLocalHessian, EqualsInverseOfCameraBlockOfDenseCovariance) {
   const LocalMotion t = MakeTriplet(rec, {1, 2, 4}, rng);
   LocalHessianOptions opt;
   opt.loss.type = LossType::kCauchy;
-  opt.max_iterations = 5;
+  opt.solver.max_iterations = 5;
   LocalBundleProblem p;
   ASSERT_EQ(BuildLocalBundleProblem(rec, t, opt, &p), LocalHessianStatus::kOk);
-  ASSERT_TRUE(SolveLocalBundle(opt.max_iterations, &p));
+  ASSERT_TRUE(SolveLocalBundle(opt.solver, &p));
   EXPECT_GT(ObservationsBeyond(p, opt.max_reprojection_px), 10);
   const ReducedCameraSystem red = ReducedCameraMatrix(p);
   const double L = MedianDepth(p);

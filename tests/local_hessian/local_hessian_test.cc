@@ -65,14 +65,14 @@ TEST(LocalHessian, EqualsInverseOfCameraBlockOfDenseCovariance) {
   std::mt19937_64 rng(3);
   const LocalMotion t = MakeTriplet(rec, {1, 2, 4}, rng);
   LocalHessianOptions opt;
-  opt.max_iterations = 5;
+  opt.solver.max_iterations = 5;
   LocalBundleProblem p;
   ASSERT_EQ(BuildLocalBundleProblem(rec, t, opt, &p), LocalHessianStatus::kOk);
   // Push some observations into Huber's linear branch (1 px < error < 4 px), so that the
   // IRLS weighting is exercised.
   int pushed = 0;
   for (size_t i = 0; i < p.observations.size(); i += 7, ++pushed) p.observations[i].pixel += Eigen::Vector2d(1.6, -1.5);
-  ASSERT_TRUE(SolveLocalBundle(opt.max_iterations, &p));
+  ASSERT_TRUE(SolveLocalBundle(opt.solver, &p));
   const ReducedCameraSystem red = ReducedCameraMatrix(p);
   const double L = MedianDepth(p);
   const GaugePrior prior = ComputeGaugePrior(red.h, p.poses, L, opt);
@@ -220,7 +220,7 @@ TEST(LocalHessian, DecompositionAndPriorAreConsistent) {
   // One local BA iteration from the true poses on noisy data leaves a small reduced gradient
   // (a converged x0); more iterations shrink it further.
   LocalHessianOptions many;
-  many.max_iterations = 10;
+  many.solver.max_iterations = 10;
   const LocalHessian conv = ComputeLocalHessian(rec, t, 4, many);
   EXPECT_LT(conv.reduced_gradient.norm(), lh.reduced_gradient.norm() + 1e-12);
 }
@@ -308,7 +308,7 @@ TEST(LocalHessian, NewtonStepPointsToTheTripletOptimum) {
   std::mt19937_64 rng(22);
   LocalMotion t = MakeTriplet(rec, {2, 3, 5}, rng);
   LocalHessianOptions converge;
-  converge.max_iterations = 50;
+  converge.solver.max_iterations = 50;
   const LocalHessian opt = ComputeLocalHessian(rec, t, 0, converge);
   ASSERT_EQ(opt.status, LocalHessianStatus::kOk);
   const Matrix18d h0 = opt.h - opt.prior;
@@ -325,7 +325,7 @@ TEST(LocalHessian, NewtonStepPointsToTheTripletOptimum) {
                                         opt.local_poses[k].C() + 0.01 * baseline * d.normalized());
   }
   LocalHessianOptions at_point;
-  at_point.max_iterations = 0;
+  at_point.solver.max_iterations = 0;
   const LocalHessian lin = ComputeLocalHessian(rec, moved, 0, at_point);
   ASSERT_EQ(lin.status, LocalHessianStatus::kOk);
   std::vector<Pose> stepped(3);
@@ -393,7 +393,7 @@ TEST(LocalHessian, OptionsRoundTripThroughJson) {
   const LocalHessianOptions back = j.get<LocalHessianOptions>();
   EXPECT_EQ(back.attenuation_q, 25);
   EXPECT_EQ(back.prior_placement, PriorPlacement::kLocalBAAndHessian);
-  EXPECT_EQ(nlohmann::json::parse(R"({"huber_px": 2})").get<LocalHessianOptions>().max_iterations, 1);
+  EXPECT_EQ(nlohmann::json::parse(R"({"huber_px": 2})").get<LocalHessianOptions>().solver.max_iterations, 1);
 }
 
 }  // namespace

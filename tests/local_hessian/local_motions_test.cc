@@ -175,10 +175,10 @@ TEST(LocalMotions, HessianEqualsInverseOfCameraBlockOfDenseCovariance) {
   std::vector<LocalMotion> motions = SelectLocalMotions(rec, PosesOf(rec), o);
   ASSERT_FALSE(motions.empty());
   LocalHessianOptions opt;
-  opt.max_iterations = 10;
+  opt.solver.max_iterations = 10;
   LocalBundleProblem p;
   ASSERT_EQ(BuildLocalBundleProblem(rec, motions[0], opt, &p), LocalHessianStatus::kOk);
-  ASSERT_TRUE(SolveLocalBundle(opt.max_iterations, &p));
+  ASSERT_TRUE(SolveLocalBundle(opt.solver, &p));
   const ReducedCameraSystem red = ReducedCameraMatrix(p);
   const GaugePrior prior = ComputeGaugePrior(red.h, p.poses, MedianDepth(p), opt);
   const Eigen::MatrixXd h = red.h + prior.P;

@@ -2,7 +2,6 @@
 
 #include "pgba/io/workspace_json.h"
 
-#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
