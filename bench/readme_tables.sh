@@ -11,8 +11,9 @@
 #   colmap_uncal the same, UNCALIBRATED=1 (neither gets a calibration), Strecha sets and temple
 #   pose         bench/pose_accuracy.sh on one thread (the time column is the CPU-time ratio):
 #                orbit, aerial, planar at seeds 1-4, aerial:1 at 500 images, longfocal seeds
-#                1-4, the four real sets' tracks; then configs/paper_triplets.json and
-#                configs/longfocal.json on some of them. Table 1 is printed from the same runs
+#                1-4, the four real sets' tracks; then configs/paper_triplets.json, and its
+#                weighting over 7-view motions (local_motions.kind neighbours, the long-focal
+#                preset until session 19), on some of them. Table 1 comes from the same runs
 #   weak         bench/weak_rings.sh with configs/object_ring.json and variants of it
 #   selfcal      bench/self_calibration.sh (its default scenes and longfocal:1)
 #   realselfcal  bench/real_self_calibration.sh (four datasets, four variants)
@@ -72,8 +73,10 @@ run_pose() {
   # shellcheck disable=SC2046
   THREADS=1 CONFIG="$here/configs/paper_triplets.json" bash "$here/bench/pose_accuracy.sh" "$out/pose_triplets" \
     orbit:1 aerial:1 planar:1 aerial:1:500 longfocal:1 $(real_tracks | grep temple || true)
-  echo "-- configs/longfocal.json"
-  THREADS=1 CONFIG="$here/configs/longfocal.json" bash "$here/bench/pose_accuracy.sh" "$out/pose_longfocal" \
+  echo "-- 7-view motions (configs/paper_triplets.json, local_motions neighbours 7)"
+  python3 -c 'import json, sys; c = json.load(open(sys.argv[1])); c["local_motions"] = {"kind": "neighbours", "views": 7}
+print(json.dumps(c))' "$here/configs/paper_triplets.json" >"$out/seven_view_motions.json"
+  THREADS=1 CONFIG="$out/seven_view_motions.json" bash "$here/bench/pose_accuracy.sh" "$out/pose_seven_view" \
     longfocal:1 longfocal:2
 }
 

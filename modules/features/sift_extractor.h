@@ -21,7 +21,7 @@ struct SiftOptions {
   // Which SIFT: "opencv" (cv::SIFT of OpenCV 4.6, which builds its pyramid on one thread),
   // "pgba" (pgba_sift.h: the same algorithm with the pyramid, the extrema and the
   // descriptors parallel inside one image) or "auto" (the default): pgba's from
-  // kAutoPgbaSiftMinMegapixels on, OpenCV's below. By measurement (README "Session 18:
+  // kAutoPgbaSiftMinMegapixels on, OpenCV's below. By measurement (docs/measurement_history.md "Session 18:
   // pgba's SIFT by image size", bench/sift_by_size.sh): on the Strecha sets downscaled to
   // 0.27-6.3 MP pgba's takes 0.52-0.87x OpenCV's CPU time and the final rotation errors are
   // equal within their noise (a few thousandths of a degree either way); on the 0.31 MP
@@ -48,7 +48,7 @@ struct SiftOptions {
   // implementation starts there directly, OpenCV's on the image halved then doubled). 0 skips
   // the octave that holds 3/4 of the pyramid's pixels, ~8x less time on a 6 MP photo, but
   // it loses the finest scales and with them repeatability under scale change (measured
-  // on fountain_p11, README "Front end speed": 0.84 -> 0.70 of the keypoints repeated
+  // on fountain_p11, docs/measurement_history.md "Front end speed": 0.84 -> 0.70 of the keypoints repeated
   // under a 0.8x zoom and 15 degree rotation): an option, not the default.
   int first_octave = -1;
   // Adaptive contrast (weakly textured or low-contrast images): when an image yields fewer

@@ -170,7 +170,7 @@ struct GlobalBAOptions {
   // step grows it by the gain ratio of the true cost (Ceres' rule), back to Gauss-Newton's
   // undamped solve once it reaches initial_trust_region_radius. At most relinearize_damped_steps
   // refusals per adjustment (each one more pass); 0 (default): a refused step ends the passes.
-  // Off by default: measured on temple_sparse_ring with a wrong focal prior (README, issue 14)
+  // Off by default: measured on temple_sparse_ring with a wrong focal prior (docs/measurement_history.md, issue 14)
   // it lowers the true cost past a refused step (benchmark tracks at x1.10: 447 -> 425, the
   // point-based BA's fit) but not the rotation errors, which sit in local minima of the
   // truncated cost (observations beyond LocalHessianOptions::max_reprojection_px dropped at
@@ -186,7 +186,7 @@ struct GlobalBAOptions {
   // none dropped at 4 px for good), until they converge (the passes' own stopping rules); then
   // the local Hessians re-taken there with the configured loss and the checked passes as
   // without. 0: off. Off by default, measured on temple_sparse_ring with a wrong focal prior
-  // (README, issue 14): on fixed tracks (N 20) it reaches the point-based BA's rotations at
+  // (docs/measurement_history.md, issue 14): on fixed tracks (N 20) it reaches the point-based BA's rotations at
   // x1.08-1.12 and x0.92 (rel. 0.17-0.25 deg; default 0.25-0.32, Sim3 up to 1.8 deg), in the
   // whole pipeline it ends worse (0.87 deg against 0.21-0.56): both losses' passes stop at a
   // refused step that the models price at almost nothing (a motion's own Newton step lies far

@@ -22,7 +22,7 @@ namespace pgba {
 
 struct GuidedMatchingOptions {
   // Off by default and in the object_ring preset: the textured sets have matches enough,
-  // and on dino_sparse_ring its extra matches put pair rotations 1-5 deg off (README,
+  // and on dino_sparse_ring its extra matches put pair rotations 1-5 deg off (docs/measurement_history.md,
   // "Weakly textured objects").
   bool enabled = false;
   // Only pairs whose first verification found fewer inliers than this (a dense pair gains

@@ -7,7 +7,7 @@
 //               descriptor (vlad_retrieval.h): for large unordered sets, between
 //               n * neighbors / 2 and n * neighbors pairs (a pair both images chose counts
 //               once) instead of n^2 / 2, so matching grows linearly with n. Measured on
-//               rendered aerial blocks (tests/matching/vlad_retrieval_test.cc, README "A
+//               rendered aerial blocks (tests/matching/vlad_retrieval_test.cc, docs/measurement_history.md "A
 //               thousand photos"): neighbors 10 finds every pair whose footprints overlap
 //               by >= 50%.
 #pragma once

@@ -242,7 +242,7 @@ void CheckInputs(const std::vector<Eigen::Vector3d>& bearings1, const std::vecto
 // runs only when the threshold sees less than kRefineStartWellPlaced of the wide inliers (a
 // front-end pose on the same features nearly always does). Then up to kRefineStartMaxPasses
 // refine + re-classify passes, stopping early once a pass leaves the inliers unchanged and
-// turns the rotation by less than kRefineConvergedDeg. One pass, measured (README "Measured:
+// turns the rotation by less than kRefineConvergedDeg. One pass, measured (docs/measurement_history.md "Measured:
 // front-end speed (issue 16)"): the Sampson refinement, not RANSAC, is most of a pair's cost
 // (150-image aerial block: pairs stage 7.5 s estimated, 6.5 s refined, 1.7 s reused; 4
 // passes took longer than RANSAC), and the final poses on the Strecha sets moved by at most

@@ -43,12 +43,12 @@ struct PairOptions {
   //   "reuse"    its pose and inlier count as they are (only min_inliers and the
   //              triangulation-angle test apply): a 4x faster stage, but entry_p10's
   //              relative rotation max 0.0763 deg against 0.0752-0.0753 with RANSAC's
-  //              seeds 1-3 (README "Measured: front-end speed (issue 16)");
+  //              seeds 1-3 (docs/measurement_history.md "Measured: front-end speed (issue 16)");
   //   "estimate" RANSAC on the shared tracks, as without a front end.
   std::string front_end = "refine";
   // With the front end's geometries: whether candidates it did not verify (pairs it
   // rejected, or never matched, that share tracks through third images) are estimated from
-  // the tracks too. README "Measured: front-end speed (issue 16)" has the measurement.
+  // the tracks too. docs/measurement_history.md "Measured: front-end speed (issue 16)" has the measurement.
   bool track_only_pairs = true;
   // "" if valid, otherwise the first problem ("front_end must be one of ...").
   std::string Check() const;

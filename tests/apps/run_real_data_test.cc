@@ -50,7 +50,7 @@ TEST(RunRealData, TempleSparseRingEveryImageRegistered) {
 // fixed threshold, nothing registered before): the object_ring preset's adaptive contrast
 // threshold lowers the threshold of every image, weak pairs confirmed by a third view (and
 // kept as a chain end's only link) connect more images, the registered images (6 measured,
-// 4 without the weak pairs; README "Weakly textured objects" says why not all 16) are
+// 4 without the weak pairs; docs/measurement_history.md "Weakly textured objects" says why not all 16) are
 // within 0.3 deg of the ground truth, and report.html shows the adapted images and the view
 // graph, drawn and in words.
 TEST(RunRealData, DinoSparseRingAdaptiveContrastRegistersAccurately) {

@@ -13,7 +13,7 @@
 // uncalibrated focal -0.14%, rot err 0.0585 (0.53x), rel 0.0446 (1.96x) with the principal
 // point estimated (0.497 and 0.106 with it held at the image centre, below). The
 // relative ratio of the prior is that of the dataset's calibration freed from its own values
-// (README: the data's self-calibration floor), so the tolerances sit just above the measure.
+// (docs/measurement_history.md: the data's self-calibration floor), so the tolerances sit just above the measure.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -149,12 +149,12 @@ TEST_F(RealDataSelfCalibration, HerzJesuWithoutCalibrationAndWithAWrongFocalPrio
 // temple_sparse_ring (Middlebury, 16 views on a ring, 640 x 480, field of view 24 deg) with the
 // calibration's fx, fy 10% long as a PINHOLE prior, default config. With fx and fy apart, fx
 // is not observable on this ring (the global BA's standard deviation 60-240 px, 4-16%, for fx
-// against ~20 px for fy; the mean focal within 1% in 0 of 6 priors 8-12% long, README issue
+// against ~20 px for fy; the mean focal within 1% in 0 of 6 priors 8-12% long, docs/measurement_history.md issue
 // 14). With one focal unknown and the prior's fy / fx held (intrinsics.refine_aspect_ratio
 // false, the default), measured over priors 8, 10, 12% long and 8% short
 // (bench/temple_prior_survey.sh): both focals within 0.08-0.36% of the dataset's, sd ~19 px.
 // The rotations are not yet at issue 14's 1.3x of the calibrated run (rot err 0.53-2.8 deg
-// against 0.21): the checked re-linearisation stops at its first refused step (README).
+// against 0.21): the checked re-linearisation stops at its first refused step (docs/measurement_history.md).
 TEST_F(RealDataSelfCalibration, TempleRingWithAWrongFocalPrior) {
   if (!Use("temple_sparse_ring")) GTEST_SKIP() << "dataset missing: " << data_;
   config_.clear();
@@ -187,7 +187,7 @@ TEST_F(RealDataSelfCalibration, TempleRingWithAWrongFocalPrior) {
 
   // No calibration at all (focal guess 768 px, 2x short; principal point estimated in the first
   // pass). This self-calibration is bimodal and the RANSAC seed of the verification picks the
-  // mode (README, Sampson-scored verification): principal point x 298-301 px (the dataset's
+  // mode (docs/measurement_history.md, Sampson-scored verification): principal point x 298-301 px (the dataset's
   // 302.3), 0.22-0.37 deg, focal +1.3%; or x 277-281 px, k1 ~-0.22, 0.86-1.14 deg, focal +2.0%
   // (measured over seeds 0-3 with either verification; main's passed its old 1.5x rotation bar
   // at seeds 0 and 3 only). What holds in both modes is asserted; the rotation bar of issue 14

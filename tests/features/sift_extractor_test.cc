@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -272,8 +273,8 @@ TEST(FeatureFile, RoundTripAndDamage) {
   EXPECT_EQ(cv::norm(g.descriptors, f.descriptors, cv::NORM_L1), 0.0);
 
   // Truncated: every shorter prefix is an InputError, never a crash.
-  const auto size = fs::file_size(path);
-  for (auto cut : {size - 1, size / 2, decltype(size)(20), decltype(size)(3)}) {
+  const std::uintmax_t size = fs::file_size(path);
+  for (std::uintmax_t cut : {size - 1, size / 2, std::uintmax_t{20}, std::uintmax_t{3}}) {
     fs::copy_file(path, dir / "t.bin", fs::copy_options::overwrite_existing);
     fs::resize_file(dir / "t.bin", cut);
     EXPECT_THROW(ReadFeatureFile((dir / "t.bin").string()), InputError) << cut;

@@ -12,40 +12,17 @@
 #include "modules/global_ba/motion_similarity.h"
 #include "modules/global_ba/motion_weighting.h"
 #include "modules/local_hessian/local_bundle.h"
+#include "tests/local_hessian/dense_reference.h"
 #include "tests/local_hessian/ring_scene.h"
 
 namespace pgba {
 namespace {
 
+using testing::ConvergedSolverOptions;
+using testing::CostWithPointsOptimised;
 using testing::MakeRingScene;
 using testing::MakeTriplet;
 using testing::RingSceneOptions;
-
-double CostWithPointsOptimised(const LocalBundleProblem& p, const std::vector<Pose>& poses) {
-  std::vector<PoseBlock> blocks(3);
-  std::vector<Eigen::Vector3d> points = p.points;
-  ceres::Problem problem;
-  for (int k = 0; k < 3; ++k) {
-    blocks[k] = PoseBlock::FromPose(poses[k]);
-    problem.AddParameterBlock(blocks[k].x.data(), 6);
-    problem.SetParameterBlockConstant(blocks[k].x.data());
-  }
-  for (const LocalObservation& o : p.observations)
-    problem.AddResidualBlock(
-        ReprojectionError::Create(p.cameras[o.view], blocks[o.view].R0, o.pixel),
-        new ceres::ScaledLoss(p.loss.CreateLossFunction(), p.observation_weight, ceres::TAKE_OWNERSHIP),
-        blocks[o.view].x.data(), points[o.point].data());
-  ceres::Solver::Options so;
-  so.linear_solver_type = ceres::DENSE_SCHUR;
-  so.max_num_iterations = 100;
-  so.function_tolerance = 1e-16;
-  so.gradient_tolerance = 1e-20;
-  so.parameter_tolerance = 1e-16;
-  so.logging_type = ceres::SILENT;
-  ceres::Solver::Summary summary;
-  ceres::Solve(so, &problem, &summary);
-  return summary.final_cost;
-}
 
 TEST(ChartConsistency, GlobalResidualPredictsReprojectionCost) {
   RingSceneOptions so;
@@ -80,15 +57,8 @@ TEST(ChartConsistency, GlobalResidualPredictsReprojectionCost) {
     problem.AddResidualBlock(new MotionResidual(R0, sim, lh.local_poses, W), nullptr, b[0].x.data(), b[1].x.data(),
                              b[2].x.data(), s.x.data());
     for (auto& block : b) problem.SetParameterBlockConstant(block.x.data());
-    ceres::Solver::Options so;
-    so.linear_solver_type = ceres::DENSE_QR;
-    so.max_num_iterations = 50;
-    so.function_tolerance = 1e-16;
-    so.gradient_tolerance = 1e-20;
-    so.parameter_tolerance = 1e-16;
-    so.logging_type = ceres::SILENT;
     ceres::Solver::Summary summary;
-    ceres::Solve(so, &problem, &summary);
+    ceres::Solve(ConvergedSolverOptions(ceres::DENSE_QR), &problem, &summary);
     return summary.final_cost;
   };
   EXPECT_LT(global_cost(blocks), 1e-14);

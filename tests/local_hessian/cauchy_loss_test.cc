@@ -77,14 +77,8 @@ TEST(CauchyLocalHessian, KeepsObservationsBeyondTheCutWithPointsAtTheLossMinimum
   for (const LocalObservation& o : pc.observations)
     problem.AddResidualBlock(ReprojectionError::Create(pc.cameras[o.view], poses[o.view].R0, o.pixel),
                              pc.loss.CreateLossFunction(), poses[o.view].x.data(), points[o.point].data());
-  ceres::Solver::Options so;
-  so.linear_solver_type = ceres::DENSE_SCHUR;
-  so.function_tolerance = 1e-16;
-  so.gradient_tolerance = 1e-20;
-  so.parameter_tolerance = 1e-16;
-  so.logging_type = ceres::SILENT;
   ceres::Solver::Summary summary;
-  ceres::Solve(so, &problem, &summary);
+  ceres::Solve(testing::ConvergedSolverOptions(ceres::DENSE_SCHUR), &problem, &summary);
   EXPECT_LT(summary.initial_cost - summary.final_cost, 1e-9 * summary.initial_cost);
   double moved = 0.0;
   for (size_t i = 0; i < points.size(); ++i) moved = std::max(moved, (points[i] - pc.points[i]).norm());

@@ -1,5 +1,6 @@
 // Independent references for the local Hessian tests (header only): the covariance of a whole
-// local BA built densely from Ceres' own Jacobian, and a scale-aware matrix comparison.
+// local BA built densely from Ceres' own Jacobian, a scale-aware matrix comparison, and the
+// reprojection cost at given poses with the points re-optimised.
 #pragma once
 
 #include <ceres/ceres.h>
@@ -50,6 +51,43 @@ inline double RelativeDifference(const Eigen::MatrixXd& a, const Eigen::MatrixXd
   const Eigen::MatrixXd as = s.asDiagonal() * a * s.asDiagonal();
   const Eigen::MatrixXd bs = s.asDiagonal() * b * s.asDiagonal();
   return (as - bs).norm() / bs.norm();
+}
+
+// A reference solve run to the end: tolerances far below what the tests compare (1e-16 on the
+// cost and the step, 1e-20 on the gradient), up to 100 iterations, silent.
+inline ceres::Solver::Options ConvergedSolverOptions(ceres::LinearSolverType linear_solver) {
+  ceres::Solver::Options so;
+  so.linear_solver_type = linear_solver;
+  so.max_num_iterations = 100;
+  so.function_tolerance = 1e-16;
+  so.gradient_tolerance = 1e-20;
+  so.parameter_tolerance = 1e-16;
+  so.logging_type = ceres::SILENT;
+  return so;
+}
+
+// The local BA cost 1/2 sum w rho(|r|^2) at fixed poses, points re-optimised to convergence
+// (the point-based cost as a function of the cameras alone), for a
+// triplet: `poses` are its three views.
+inline double CostWithPointsOptimised(const LocalBundleProblem& p, const std::vector<Pose>& poses) {
+  std::vector<PoseBlock> blocks(3);
+  std::vector<Eigen::Vector3d> points = p.points;
+  ceres::Problem::Options po;
+  ceres::Problem problem(po);
+  for (int k = 0; k < 3; ++k) {
+    blocks[k] = PoseBlock::FromPose(poses[k]);
+    problem.AddParameterBlock(blocks[k].x.data(), 6);
+    problem.SetParameterBlockConstant(blocks[k].x.data());
+  }
+  for (const LocalObservation& o : p.observations)
+    problem.AddResidualBlock(
+        ReprojectionError::Create(p.cameras[o.view], blocks[o.view].R0, o.pixel),
+        new ceres::ScaledLoss(p.loss.CreateLossFunction(), p.observation_weight * o.weight,
+                              ceres::TAKE_OWNERSHIP),
+        blocks[o.view].x.data(), points[o.point].data());
+  ceres::Solver::Summary summary;
+  ceres::Solve(ConvergedSolverOptions(ceres::DENSE_SCHUR), &problem, &summary);
+  return summary.final_cost;
 }
 
 }  // namespace pgba::testing

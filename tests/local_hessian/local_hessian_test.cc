@@ -18,41 +18,12 @@
 namespace pgba {
 namespace {
 
+using testing::CostWithPointsOptimised;
 using testing::DenseCovariance;
 using testing::MakeRingScene;
 using testing::MakeTriplet;
 using testing::RelativeDifference;
 using testing::RingSceneOptions;
-
-// The local BA cost 1/2 sum w rho(|r|^2) at fixed poses, points re-optimised to convergence
-// (the point-based cost as a function of the cameras alone).
-double CostWithPointsOptimised(const LocalBundleProblem& p, const std::vector<Pose>& poses) {
-  std::vector<PoseBlock> blocks(3);
-  std::vector<Eigen::Vector3d> points = p.points;
-  ceres::Problem::Options po;
-  ceres::Problem problem(po);
-  for (int k = 0; k < 3; ++k) {
-    blocks[k] = PoseBlock::FromPose(poses[k]);
-    problem.AddParameterBlock(blocks[k].x.data(), 6);
-    problem.SetParameterBlockConstant(blocks[k].x.data());
-  }
-  for (const LocalObservation& o : p.observations)
-    problem.AddResidualBlock(
-        ReprojectionError::Create(p.cameras[o.view], blocks[o.view].R0, o.pixel),
-        new ceres::ScaledLoss(p.loss.CreateLossFunction(), p.observation_weight * o.weight,
-                              ceres::TAKE_OWNERSHIP),
-        blocks[o.view].x.data(), points[o.point].data());
-  ceres::Solver::Options so;
-  so.linear_solver_type = ceres::DENSE_SCHUR;
-  so.max_num_iterations = 100;
-  so.function_tolerance = 1e-16;
-  so.gradient_tolerance = 1e-20;
-  so.parameter_tolerance = 1e-16;
-  so.logging_type = ceres::SILENT;
-  ceres::Solver::Summary summary;
-  ceres::Solve(so, &problem, &summary);
-  return summary.final_cost;
-}
 
 // (a) h is the inverse of the camera block of the covariance of the full problem, built
 // independently: Ceres' own Jacobian (Problem::Evaluate, with the Huber loss correction),

@@ -67,9 +67,11 @@ TEST(LocalMotions, EachImageWithItsBestConnectedNeighbours) {
     for (int k = 2; k < m.num_views(); ++k)
       EXPECT_GE(Shared(rec, centre, m.image_ids[k - 1]), Shared(rec, centre, m.image_ids[k]));
     const int weakest = Shared(rec, centre, m.image_ids.back());
-    for (const auto& [id, pose] : poses)
-      if (std::find(m.image_ids.begin(), m.image_ids.end(), id) == m.image_ids.end())
+    for (const auto& [id, pose] : poses) {
+      if (std::find(m.image_ids.begin(), m.image_ids.end(), id) == m.image_ids.end()) {
         EXPECT_LE(Shared(rec, centre, id), weakest);
+      }
+    }
     // Its tracks: exactly those seen by two of its views or more.
     std::set<uint64_t> expected;
     for (const auto& [id, pt] : rec.points3D) {

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "local_hessian/local_motions.h"
 #include "pgba/io/json_config.h"
 #include "pgba/util/error.h"
 
@@ -27,7 +28,8 @@ TEST(RunOptions, EveryPresetLoads) {
   const RunOptions video = LoadRunOptions((configs / "video.json").string());
   EXPECT_EQ(video.matching.pairs.method, "sequential");
   const RunOptions longfocal = LoadRunOptions((configs / "longfocal.json").string());
-  EXPECT_EQ(longfocal.reconstruction.refinement.local_motions.views, 7);
+  EXPECT_EQ(longfocal.matching.pairs.method, "sequential");
+  EXPECT_EQ(longfocal.reconstruction.refinement.local_motions.kind, MotionKind::kWholeTracks);
 }
 
 TEST(RunOptions, UnknownKeyNamesTheFile) {

@@ -45,13 +45,13 @@ struct IntrinsicsOptions {
   // the prior's ratio unless this is set (then fx and fy apart, as COLMAP does). Pixels are
   // square on every camera pgba has met, and on a ring or a narrow block one of the two is
   // not observable on its own: temple_sparse_ring with a 10% PINHOLE prior, fx and fy apart,
-  // left fx at a standard deviation of 4-16% and 1-6% off while fy came within 0.6% (README,
+  // left fx at a standard deviation of 4-16% and 1-6% off while fy came within 0.6% (docs/measurement_history.md,
   // issue 14).
   bool refine_aspect_ratio = false;
   // A camera without any calibration (no file, no EXIF: its focal is the 1.2 max(w, h) guess,
   // Camera::has_prior_focal_length false) also estimates its principal point, unlike COLMAP:
   // real lenses put it 15-17 px (0.3-0.5 deg) off the image centre, which no focal or
-  // distortion absorbs. Measured on the four real sets without calibration (README issue 14):
+  // distortion absorbs. Measured on the four real sets without calibration (docs/measurement_history.md, issue 14):
   // the rotation error falls 1.3-4.8x (Sim3) and 1.2-3.8x (gauge-free) on every one of them.
   // Applies to the adjustments after the triplets (a triplet never frees it).
   bool refine_principal_point_without_calibration = true;
