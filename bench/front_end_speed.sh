@@ -35,8 +35,7 @@
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 shared=$(cd "$here/.." && pwd)/shared
-if [[ -z "${PGBA:-}" ]]; then PGBA=$(ls -t "$here"/build*/bin/pgba 2>/dev/null | head -1 || true); fi
-[[ -x "${PGBA:-}" ]] || { echo "error: pgba binary not found; build it or set PGBA=" >&2; exit 2; }
+source "$here/bench/pgba_binary.sh"
 if [[ $# -eq 0 ]]; then
   set -- "$shared/datasets/fountain_p11" "$shared/datasets/herzjesu_p8" "$shared/datasets/entry_p10"
 fi
@@ -96,7 +95,7 @@ for ds in datasets:
         st = lambda x: x["stages"]
         f0, m0, e0 = st(reps[0])["features"], st(reps[0])["match"], reps[0].get("evaluation", {})
         if failed:
-            e0 = {"images_registered": f"0 ({failed[0][:60]})"}
+            e0 = {"images_registered": 0, "failed": failed[0][:60]}
         total = mean(lambda x: sum(s.get("seconds", 0) for s in st(x).values() if isinstance(s, dict)))
         proc = [list(map(float, open(f"{tmp}/{name}_{v}_{r}.time").read().split()[-3:])) for r in range(1, repeat + 1)]
         wall = sum(p[0] for p in proc) / repeat
@@ -112,6 +111,6 @@ for ds in datasets:
               f"{1000 * mean(lambda x: st(x)['match'].get('cpu_seconds_per_pair_verification', nan)):.1f} | "
               f"{m0['pairs_verified']}/{m0['pairs']} | {m0['verified_matches']} | {total:.1f} | {wall:.1f} | {cpu:.1f} | "
               f"{loads} | "
-              f"{e0.get('images_registered', '?')}/{f0['images']} | {e0.get('rot_err_deg_median', float('nan')):.4f} | "
+              f"{e0.get('images_registered', '?')}/{f0['images']}{' (failed: ' + e0['failed'] + ')' if 'failed' in e0 else ''} | {e0.get('rot_err_deg_median', float('nan')):.4f} | "
               f"{e0.get('rot_err_deg_max', float('nan')):.4f}")
 PY

@@ -4,10 +4,7 @@
 # Expects: here (the checkout), optional PGBA / COLMAP from the environment.
 
 COLMAP=${COLMAP:-colmap}
-if [[ -z "${PGBA:-}" ]]; then
-  PGBA=$(ls -t "$here"/build*/bin/pgba 2>/dev/null | head -1 || true)
-fi
-[[ -x "${PGBA:-}" ]] || { echo "error: pgba binary not found; build it or set PGBA=" >&2; exit 2; }
+source "$here/bench/pgba_binary.sh"
 command -v "$COLMAP" >/dev/null || { echo "error: colmap not found (apt-get install colmap, or set COLMAP=)" >&2; exit 2; }
 
 now() { date +%s.%N; }

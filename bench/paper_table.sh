@@ -21,10 +21,7 @@ fi
 ds=$1
 out=$2
 here=$(cd "$(dirname "$0")/.." && pwd)
-if [[ -z "${PGBA:-}" ]]; then
-  PGBA=$(ls -t "$here"/build*/bin/pgba 2>/dev/null | head -1 || true)
-fi
-[[ -x "${PGBA:-}" ]] || { echo "error: pgba binary not found; build it or set PGBA=" >&2; exit 2; }
+source "$here/bench/pgba_binary.sh"
 for need in images cameras.txt gt/images.txt; do
   [[ -e "$ds/$need" ]] || { echo "error: $ds/$need missing (see datasets/README.md for the layout)" >&2; exit 2; }
 done

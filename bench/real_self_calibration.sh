@@ -4,7 +4,8 @@
 # ratios hold on a shared machine):
 #   cal     the dataset's calibration, held (--calib D/cameras.txt): the reference;
 #   nocal   no calibration (links to the photos in a folder without cameras.txt: SIMPLE_RADIAL
-#           prior at 1.2 max(w, h), view-graph focal, focal and k refined, principal point held);
+#           prior at 1.2 max(w, h), view-graph focal, focal, k and, for a camera with neither a
+#           calibration nor EXIF, the principal point refined);
 #   nocal_pp  the same with {"intrinsics": {"refine_principal_point": true}};
 #   f110    a PINHOLE copy of the calibration with fx, fy x 1.1 and --calib-prior.
 # The features of the first run are copied to the others (same photos and options).
@@ -26,10 +27,7 @@ fi
 out=$1
 shift
 here=$(cd "$(dirname "$0")/.." && pwd)
-if [[ -z "${PGBA:-}" ]]; then
-  PGBA=$(ls -t "$here"/build*/bin/pgba 2>/dev/null | head -1 || true)
-fi
-[[ -x "${PGBA:-}" ]] || { echo "error: pgba binary not found; build it or set PGBA=" >&2; exit 2; }
+source "$here/bench/pgba_binary.sh"
 root=${DATASETS:-/work/shared/datasets}
 variants=(${VARIANTS:-cal nocal nocal_pp f110})
 sets=("$@")

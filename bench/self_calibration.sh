@@ -38,10 +38,7 @@ fi
 out=$1
 shift
 here=$(cd "$(dirname "$0")/.." && pwd)
-if [[ -z "${PGBA:-}" ]]; then
-  PGBA=$(ls -t "$here"/build*/bin/pgba 2>/dev/null | head -1 || true)
-fi
-[[ -x "${PGBA:-}" ]] || { echo "error: pgba binary not found; build it or set PGBA=" >&2; exit 2; }
+source "$here/bench/pgba_binary.sh"
 k1=${K1:--0.08}
 e=${E:-0.15}
 converged=${CONVERGED:-1}

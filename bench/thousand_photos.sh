@@ -19,8 +19,7 @@ here=$(cd "$(dirname "$0")/.." && pwd)
 out=$1
 images=${2:-1000}
 [[ "$images" =~ ^[0-9]+$ && "$images" -ge 4 ]] || { echo "error: IMAGES must be an integer >= 4, got '$images'" >&2; exit 2; }
-if [[ -z "${PGBA:-}" ]]; then PGBA=$(ls -t "$here"/build*/bin/pgba 2>/dev/null | head -1 || true); fi
-[[ -x "${PGBA:-}" ]] || { echo "error: pgba binary not found; build it or set PGBA=" >&2; exit 2; }
+source "$here/bench/pgba_binary.sh"
 config=${CONFIG:-$here/configs/aerial_large.json}
 [[ -f "$config" ]] || { echo "error: config '$config' not found" >&2; exit 2; }
 [[ -x /usr/bin/time ]] || { echo "error: /usr/bin/time not found (apt-get install time)" >&2; exit 2; }
