@@ -116,9 +116,11 @@ run_frontend() {
 }
 run_thousand() { bash "$here/bench/thousand_photos.sh" "$out/thousand" 1000; }
 
+for s in "${sections[@]}"; do
+  declare -F "run_$s" >/dev/null || { echo "error: unknown section '$s' (colmap colmap_uncal pose weak selfcal realselfcal frontend thousand)" >&2; exit 2; }
+done
 log "start: $PGBA ($(cd "$here" && git rev-parse --short HEAD 2>/dev/null || echo '?')), sections ${sections[*]}"
 for s in "${sections[@]}"; do
-  declare -F "run_$s" >/dev/null || { echo "error: unknown section '$s'" >&2; exit 2; }
   log "section $s"
   "run_$s" >"$out/$s.txt" 2>"$out/$s.err" || log "section $s failed (exit $?, see $out/$s.err)"
 done
