@@ -53,6 +53,19 @@ real_tracks() {
   done
 }
 
+# merged_config BASE.json OVERRIDE_JSON: BASE with OVERRIDE merged in, key by key (nested
+# objects merged, other values replaced), on stdout.
+merged_config() {
+  python3 - "$1" "$2" <<'PY'
+import json, sys
+def merge(a, b):
+    for k, v in b.items():
+        a[k] = merge(a.get(k, {}), v) if isinstance(v, dict) else v
+    return a
+print(json.dumps(merge(json.load(open(sys.argv[1])), json.loads(sys.argv[2])), indent=1))
+PY
+}
+
 run_colmap_uncal() {
   UNCALIBRATED=1 bash "$here/bench/compare_colmap.sh" "$datasets"/{fountain_p11,herzjesu_p8,entry_p10,temple_sparse_ring}
 }
@@ -74,8 +87,8 @@ run_pose() {
   THREADS=1 CONFIG="$here/configs/paper_triplets.json" bash "$here/bench/pose_accuracy.sh" "$out/pose_triplets" \
     orbit:1 aerial:1 planar:1 aerial:1:500 longfocal:1 $(real_tracks | grep temple || true)
   echo "-- 7-view motions (configs/paper_triplets.json, local_motions neighbours 7)"
-  python3 -c 'import json, sys; c = json.load(open(sys.argv[1])); c["local_motions"] = {"kind": "neighbours", "views": 7}
-print(json.dumps(c))' "$here/configs/paper_triplets.json" >"$out/seven_view_motions.json"
+  merged_config "$here/configs/paper_triplets.json" '{"local_motions": {"kind": "neighbours", "views": 7}}' \
+    >"$out/seven_view_motions.json"
   THREADS=1 CONFIG="$out/seven_view_motions.json" bash "$here/bench/pose_accuracy.sh" "$out/pose_seven_view" \
     longfocal:1 longfocal:2
 }
@@ -91,14 +104,7 @@ run_weak() {
   ) configs=() v
   mkdir -p "$out/weak_configs"
   for v in "${variants[@]}"; do
-    python3 - "$here/configs/object_ring.json" "${v#*:}" >"$out/weak_configs/${v%%:*}.json" <<'PY'
-import json, sys
-def merge(a, b):
-    for k, v in b.items():
-        a[k] = merge(a.get(k, {}), v) if isinstance(v, dict) else v
-    return a
-print(json.dumps(merge(json.load(open(sys.argv[1])), json.loads(sys.argv[2])), indent=1))
-PY
+    merged_config "$here/configs/object_ring.json" "${v#*:}" >"$out/weak_configs/${v%%:*}.json"
     configs+=("$out/weak_configs/${v%%:*}.json")
   done
   bash "$here/bench/weak_rings.sh" "$out/weak" "${configs[@]}"
