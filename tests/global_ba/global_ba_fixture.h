@@ -16,6 +16,7 @@
 #include "pgba/geometry/rotation.h"
 #include "pgba/geometry/sim3.h"
 #include "pgba/geometry/triangulation.h"
+#include "pgba/optim/ceres_solver_options.h"
 #include "pgba/optim/pose_parameterization.h"
 #include "tests/local_hessian/ring_scene.h"
 
@@ -145,13 +146,13 @@ inline std::map<uint32_t, Pose> PointBasedBA(const Reconstruction& rec, const st
   int coord = 0;
   (second->second.x.head<3>() - first->second.x.head<3>()).cwiseAbs().maxCoeff(&coord);
   problem.SetManifold(second->second.x.data(), new ceres::SubsetManifold(6, {coord}));
-  ceres::Solver::Options so;
-  so.linear_solver_type = ceres::SPARSE_SCHUR;
+  SolverOptions solver;
+  solver.linear_solver_type = ceres::SPARSE_SCHUR;
+  solver.max_iterations = 100;
+  solver.function_tolerance = 1e-10;
+  solver.num_threads = 2;
+  ceres::Solver::Options so = CeresSolverOptions(solver);
   so.linear_solver_ordering = ordering;
-  so.max_num_iterations = 100;
-  so.function_tolerance = 1e-10;
-  so.num_threads = 2;
-  so.logging_type = ceres::SILENT;
   ceres::Solver::Summary summary;
   ceres::Solve(so, &problem, &summary);
   if (iterations) *iterations = static_cast<int>(summary.iterations.size()) - 1;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "modules/local_hessian/local_bundle.h"
+#include "pgba/optim/ceres_solver_options.h"
 #include "pgba/optim/bundle_adjuster.h"
 
 namespace pgba::testing {
@@ -54,16 +55,15 @@ inline double RelativeDifference(const Eigen::MatrixXd& a, const Eigen::MatrixXd
 }
 
 // A reference solve run to the end: tolerances far below what the tests compare (1e-16 on the
-// cost and the step, 1e-20 on the gradient), up to 100 iterations, silent.
+// cost and the step, 1e-20 on the gradient), up to 100 iterations, one thread, silent.
 inline ceres::Solver::Options ConvergedSolverOptions(ceres::LinearSolverType linear_solver) {
-  ceres::Solver::Options so;
-  so.linear_solver_type = linear_solver;
-  so.max_num_iterations = 100;
-  so.function_tolerance = 1e-16;
-  so.gradient_tolerance = 1e-20;
-  so.parameter_tolerance = 1e-16;
-  so.logging_type = ceres::SILENT;
-  return so;
+  SolverOptions solver;
+  solver.linear_solver_type = linear_solver;
+  solver.max_iterations = 100;
+  solver.function_tolerance = 1e-16;
+  solver.gradient_tolerance = 1e-20;
+  solver.parameter_tolerance = 1e-16;
+  return CeresSolverOptions(solver);
 }
 
 // The local BA cost 1/2 sum w rho(|r|^2) at fixed poses, points re-optimised to convergence
