@@ -60,7 +60,8 @@ int main() {
   LocalHessianOptions options;  // the paper's defaults
   LocalBundleProblem problem;
   if (BuildLocalBundleProblem(tracks, motion, options, &problem) != LocalHessianStatus::kOk) return 1;
-  SolveLocalBundle(LocalBundleSolverOptions(/*max_iterations=*/20), &problem);  // converged: x0 is the triplet's optimum
+  // Converged: x0 is the triplet's optimum.
+  SolveLocalBundle(LocalBundleSolverOptions(/*max_iterations=*/20), &problem);
   const int M = static_cast<int>(problem.points.size());
   const int n_obs = static_cast<int>(problem.observations.size());
   std::printf("points: %d\nobservations: %d\n", M, n_obs);
