@@ -26,14 +26,14 @@ def markdown(header, rows):
         print("| " + " | ".join(r) + " |")
 
 
-def spaced_table(name, header, keep=lambda f: True):
+def spaced_table(name, header):
     """A table the script printed as space-separated columns (first line its header)."""
     t = text(name)
     if t is None:
         print("(not run)\n")
         return
     lines = [l.split() for l in t.splitlines() if l.strip() and not l.startswith("  (kept") and not l.startswith("--")]
-    rows = [f for f in lines[1:] if f[0] != lines[0][0] and keep(f)]
+    rows = [f for f in lines[1:] if f[0] != lines[0][0]]
     markdown(header, rows)
     print()
 
