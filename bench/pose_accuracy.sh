@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Pose accuracy and time of the pointless BA against the point-based BA, scene by scene, all
-# in one run (issue 13's acceptance table): `pgba benchmark` on synthetic scenes (0.5 px noise,
+# in one run: `pgba benchmark` on synthetic scenes (0.5 px noise,
 # 2% gross outliers) and on the tracks of real datasets, then one row per scene:
 #   rel. rotation error (median and max over all image pairs, gauge-free) pointless / point-based,
 #   translation-direction error ratio, sigma ratio, unknowns ratio, and the time ratio
@@ -10,7 +10,10 @@
 #   SCENE: orbit:SEED | aerial:SEED[:IMAGES] | planar:SEED | longfocal:SEED | tracks:DIR:GT
 #   default: orbit, aerial, planar and longfocal at seeds 1-4.
 # Environment: PGBA (default: newest build*/bin/pgba), CONFIG (a config for both methods),
-#   THREADS (pgba --threads; 1 makes the cpu column the single-thread time ratio).
+#   THREADS (pgba --threads; 1 makes the cpu column the single-thread time ratio),
+#   PERTURB (degrees: every initial pose rotated by this much about a random axis, centres moved
+#   alike, `benchmark --perturb-deg`; relative rotations then move by about 1.4x this),
+#   PERTURB_SEED (its seed, default 1).
 # Columns: time = wall-clock ratio; cpu = the same ratio in CPU seconds (benchmark.json
 #   cpu_seconds), which a loaded machine inflates far less than wall time.
 set -euo pipefail
@@ -32,6 +35,8 @@ config_args=()
 thread_args=()
 [[ -n "${THREADS:-}" ]] && thread_args=(--threads "$THREADS")
 [[ -n "${CONFIG:-}" ]] && config_args=(--config "$CONFIG")
+perturb_args=()
+[[ -n "${PERTURB:-}" ]] && perturb_args=(--perturb-deg "$PERTURB" --perturb-seed "${PERTURB_SEED:-1}")
 mkdir -p "$out"
 
 for scene in "${scenes[@]}"; do
@@ -48,7 +53,7 @@ for scene in "${scenes[@]}"; do
     bench_args=(--tracks "$dir/scene/input" --gt "$dir/scene/gt")
     [[ -f "$dir/scene/loop_pairs.txt" ]] && bench_args+=(--loop "$dir/scene/loop_pairs.txt")
   fi
-  "$PGBA" "${thread_args[@]}" benchmark "${bench_args[@]}" "${config_args[@]}" --no-convergence --out "$dir/benchmark" \
+  "$PGBA" "${thread_args[@]}" benchmark "${bench_args[@]}" "${config_args[@]}" "${perturb_args[@]}" --no-convergence --out "$dir/benchmark" \
     >"$dir.benchmark.log" 2>&1 || { echo "$scene: benchmark failed (see $dir.benchmark.log)"; continue; }
 done
 
@@ -56,7 +61,7 @@ python3 - "$out" "${scenes[@]}" <<'EOF'
 import json, sys
 out, scenes = sys.argv[1], sys.argv[2:]
 print(f"{'scene':24} {'rel_rot pl':>10} {'pb':>9} {'ratio':>6} {'max ratio':>9} {'dir ratio':>9} "
-      f"{'sigma':>6} {'params':>6} {'time':>6} {'cpu':>6} {'images pl/pb':>12}")
+      f"{'sigma':>6} {'cost':>8} {'params':>6} {'time':>6} {'cpu':>6} {'passes':>6} {'images pl/pb':>12}")
 for scene in scenes:
     name = scene.replace(':', '_').replace('/', '_')
     try:
@@ -68,11 +73,15 @@ for scene in scenes:
     def g(m, k):
         return m.get(k, float('nan'))
     t = lambda m: m["adjust_seconds"] + m["prepare_seconds"]
+    def passes(m):
+        d = m.get("details", {}).get("method", {})
+        return f"{d.get('relinearizations', '?')}{'' if d.get('converged', True) else '!'}"
     cpu = pl.get("cpu_seconds", float('nan')) / pb.get("cpu_seconds", float('nan'))
     print(f"{scene[:24]:24} {g(pl,'rel_rot_err_deg_median'):10.5f} {g(pb,'rel_rot_err_deg_median'):9.5f} "
           f"{g(pl,'rel_rot_err_deg_median')/g(pb,'rel_rot_err_deg_median'):6.3f} "
           f"{g(pl,'rel_rot_err_deg_max')/g(pb,'rel_rot_err_deg_max'):9.3f} "
           f"{g(pl,'rel_dir_err_deg_median')/g(pb,'rel_dir_err_deg_median'):9.3f} "
-          f"{g(pl,'sigma_final')/g(pb,'sigma_final'):6.3f} {pl['params']/pb['params']:6.3f} "
-          f"{t(pl)/t(pb):6.3f} {cpu:6.3f} {pl.get('images_registered','?'):>5}/{pb.get('images_registered','?')}")
+          f"{g(pl,'sigma_final')/g(pb,'sigma_final'):6.3f} {g(pl,'robust_cost')/g(pb,'robust_cost'):8.5f} "
+          f"{pl['params']/pb['params']:6.3f} {t(pl)/t(pb):6.3f} {cpu:6.3f} {passes(pl):>6} "
+          f"{pl.get('images_registered','?'):>5}/{pb.get('images_registered','?')}")
 EOF

@@ -63,7 +63,7 @@ selfcal = merge(json.loads(json.dumps(base)), {"calibration": {"cameras": "all"}
 tight = merge(json.loads(json.dumps(selfcal)), {
     "point_based": {"bundle": {"function_tolerance": 1e-12, "parameter_tolerance": 1e-14, "max_iterations": 500}},
     "global_ba": {"function_tolerance": 1e-12, "parameter_tolerance": 1e-14, "relinearize_cost_tolerance": 1e-12,
-                  "relinearize_tolerance": 1e-6, "max_relinearizations_self_calibrating": 20}})
+                  "relinearize_tolerance": 1e-6, "max_relinearizations": 20}})
 rendered = merge(json.loads(json.dumps(base)), {"intrinsics": {"cameras": "all"}})
 for name, c in (("self_calibration", selfcal), ("converged", tight), ("rendered_tracks", rendered),
                 ("calibrated", base)):

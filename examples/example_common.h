@@ -88,7 +88,7 @@ inline std::vector<LocalMotion> RingTriplets(const Reconstruction& tracks, const
 // The local BAs of the triplets with the paper's settings (attenuation Q = 10, Huber 1 px),
 // run to convergence: x0_s is each triplet's own optimum and h_s is taken there.
 inline LocalHessianResult TripletHessians(const Reconstruction& tracks, const std::vector<LocalMotion>& triplets) {
-  LocalHessianOptions options;
+  LocalHessianOptions options = PaperTripletLocalHessianOptions();
   options.solver.max_iterations = 20;
   return ComputeLocalHessians(tracks, triplets, options);
 }
@@ -97,22 +97,15 @@ inline LocalHessianResult TripletHessians(const Reconstruction& tracks, const st
 // taken at the initial poses with every observation at weight 1 (no attenuation, no local
 // BA: the motion's frame is the global one, no rank test: a direction one motion does not
 // see, another does), the global BA without a robust loss on the motions (the observations
-// were robustified inside h_s), then every h_s re-taken once at the solution and the step
-// kept only if the true reprojection cost falls: Gauss-Newton on the point-based cost with
-// the points eliminated. The pipeline re-linearises once (its start, from the averaging, is
-// close); from a farther start Gauss-Newton needs more steps: `relinearizations`.
+// were robustified inside h_s), then every h_s re-taken at each solution and the step kept
+// only if the true reprojection cost falls, until that cost has converged: Gauss-Newton on
+// the point-based cost with the points eliminated. These are the options structs' defaults.
 // `num_params`: its unknowns (6 per pose + 7 per motion).
-inline Poses WholeTrackPointlessBA(const Reconstruction& tracks, const Poses& initial, int relinearizations,
-                                   int* num_params = nullptr) {
+inline Poses WholeTrackPointlessBA(const Reconstruction& tracks, const Poses& initial, int* num_params = nullptr) {
   const std::vector<LocalMotion> motions = SelectWholeTrackMotions(tracks, initial, WholeTrackMotionOptions{});
-  // The pipeline's own settings (mapper/pose_refinement.h): no attenuation, no eigenvalue
-  // floor, no local BA iteration (h taken at the start), LDL^T factor; one round without IRLS
-  // or Huber, checked re-linearisation on every pass.
-  const LocalHessianOptions lh = WholeTrackLocalHessianOptions();
+  const LocalHessianOptions lh;
   const LocalHessianResult hessians = ComputeLocalHessians(tracks, motions, lh);
-  GlobalBAOptions gba = WholeTrackGlobalBAOptions();
-  gba.max_relinearizations = relinearizations;
-  const GlobalBAResult r = RelinearizedGlobalBA(tracks, lh, initial, motions, hessians.hessians, gba);
+  const GlobalBAResult r = RelinearizedGlobalBA(tracks, lh, initial, motions, hessians.hessians, GlobalBAOptions{});
   if (num_params) *num_params = r.summary.num_params;
   return r.poses;
 }

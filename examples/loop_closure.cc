@@ -71,10 +71,10 @@ int main() {
   const std::vector<LocalMotion> triplets = RingTriplets(tracks, truth, /*closed=*/false);  // own optimum: example 2
   const LocalHessianResult th = TripletHessians(tracks, triplets);
   std::printf("triplets: %d\n", th.num_ok());
-  const GlobalBAResult pl = PointlessGlobalBA(initial, triplets, th.hessians, GlobalBAOptions{});
+  const GlobalBAResult pl = PointlessGlobalBA(initial, triplets, th.hessians, PaperTripletGlobalBAOptions());
   std::printf("triplets_params: %d\n", pl.summary.num_params);
   std::printf("loop_err_pointless_triplets_px: %.4f\n", LoopErrorPx(tracks, pl.poses, scene.loop_pairs));
-  const GlobalBAResult av = AveragingGlobalBA(initial, triplets, th.hessians, GlobalBAOptions{});
+  const GlobalBAResult av = AveragingGlobalBA(initial, triplets, th.hessians, PaperTripletGlobalBAOptions());
   std::printf("loop_err_averaging_px: %.4f\n", LoopErrorPx(tracks, av.poses, scene.loop_pairs));
 
   // pgba's default: whole-track motions (the point-based system with the points eliminated).
@@ -82,9 +82,9 @@ int main() {
   // here the start is ~30 px off, most observations fall outside the 4 px filter. So, as the
   // pipeline does on narrow-field blocks (mapper/linearization_start.h), they are taken at
   // the triplets' pointless solution, which does not care where it starts (each triplet's
-  // model sits at its own optimum), and re-taken twice.
+  // model sits at its own optimum), and re-taken until the cost has converged.
   int params = 0;
-  const Poses wt = WholeTrackPointlessBA(tracks, pl.poses, /*relinearizations=*/2, &params);
+  const Poses wt = WholeTrackPointlessBA(tracks, pl.poses, &params);
   std::printf("pointless_params: %d\n", params);
   std::printf("loop_err_pointless_px: %.4f\n", LoopErrorPx(tracks, wt, scene.loop_pairs));
   // (Rotation errors are not compared here: along the weak direction the two adjustments

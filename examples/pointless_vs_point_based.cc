@@ -57,7 +57,7 @@ int main() {
   //    truth); the global BA starts from `initial` as the other methods do.
   const std::vector<LocalMotion> triplets = RingTriplets(tracks, truth, /*closed=*/true);
   const LocalHessianResult th = TripletHessians(tracks, triplets);
-  const GlobalBAResult tr = PointlessGlobalBA(initial, triplets, th.hessians, GlobalBAOptions{});
+  const GlobalBAResult tr = PointlessGlobalBA(initial, triplets, th.hessians, PaperTripletGlobalBAOptions());
   const double err_tr = RelRotErrDeg(tr.poses, truth);
   std::printf("triplets: %d\n", th.num_ok());
   std::printf("triplets_params: %d\n", tr.summary.num_params);
@@ -88,7 +88,7 @@ int main() {
 
   // 3. pgba's default pointless BA over whole-track motions (example_common.h says why).
   int params = 0;
-  const Poses pointless = WholeTrackPointlessBA(tracks, initial, /*relinearizations=*/4, &params);
+  const Poses pointless = WholeTrackPointlessBA(tracks, initial, &params);
   const double err_wt = RelRotErrDeg(pointless, truth);
   std::printf("pointless_params: %d\n", params);
   std::printf("pointless_rel_rot_err_deg: %.5f\n", err_wt);

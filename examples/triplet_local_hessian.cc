@@ -57,7 +57,7 @@ int main() {
   // Paper eq. 1: the local BA over 3 poses and M points, Huber 1 px, every observation
   // weighted gamma / M = Q / (M + Q) (the paper's attenuation, Q = 10: a triplet weighs like
   // ~10 points whatever M, so that triplets with many points do not dominate).
-  LocalHessianOptions options;  // the paper's defaults
+  LocalHessianOptions options = PaperTripletLocalHessianOptions();
   LocalBundleProblem problem;
   if (BuildLocalBundleProblem(tracks, motion, options, &problem) != LocalHessianStatus::kOk) return 1;
   // Converged: x0 is the triplet's optimum.

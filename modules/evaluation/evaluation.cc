@@ -29,6 +29,7 @@ nlohmann::json EvaluationMetrics::ToJson() const {
   if (sigma.Computable()) j["sigma_rms"] = sigma.rms;
   if (sigma.num_triangulated > 0) j["sigma_median"] = sigma.median;
   if (sigma.num_observations > 0) j["inlier_fraction"] = sigma.inlier_fraction;
+  if (sigma.num_observations > 0) j["robust_cost"] = sigma.robust_cost;
   if (ground_truth) {
     details["gt_images_common"] = ground_truth->num_common;
     if (ground_truth->ok) {

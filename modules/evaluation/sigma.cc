@@ -83,11 +83,18 @@ SigmaResult EvaluateSigma(const Reconstruction& obs, const PoseMap& poses, const
   // Reduce in track order so that the result does not depend on the TBB schedule.
   SigmaResult out;
   std::vector<double> all, inliers;
+  const auto huber = [&](double e) {
+    return e <= options.huber_px ? e * e : 2.0 * options.huber_px * e - options.huber_px * options.huber_px;
+  };
+  const double cap = huber(options.inlier_px);
   for (const TrackSlot& s : slots) {
     if (s.num_views == 0) continue;
     ++out.num_tracks;
     out.num_observations += s.num_views;
-    if (!s.triangulated) continue;
+    if (!s.triangulated) {
+      out.robust_cost += cap * static_cast<double>(s.num_views);
+      continue;
+    }
     ++out.num_triangulated;
     // One view under inlier_px is no reprojection error: a point constrained by one ray lies
     // anywhere on it (at ~1e15 for an outlier track whose Huber estimate runs to infinity, where
@@ -96,6 +103,7 @@ SigmaResult EvaluateSigma(const Reconstruction& obs, const PoseMap& poses, const
         s.residuals_px.begin(), s.residuals_px.end(), [&](double e) { return e < options.inlier_px; }));
     for (double e : s.residuals_px) {
       all.push_back(e);
+      out.robust_cost += std::min(huber(e), cap);
       if (agreeing >= 2 && e < options.inlier_px) inliers.push_back(e);
     }
   }

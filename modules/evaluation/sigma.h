@@ -5,7 +5,12 @@
 //   sigma_rms       = sqrt(mean ||r||^2) over observations with ||r|| < inlier_px in tracks
 //                     where at least two views are under inlier_px,
 //   sigma_median    = median ||r|| over all observations of triangulated tracks,
-//   inlier_fraction = (#observations counted in sigma_rms) / (#evaluated observations).
+//   inlier_fraction = (#observations counted in sigma_rms) / (#evaluated observations),
+//   robust_cost     = sum over evaluated observations of the Huber cost rho(||r||) at huber_px
+//                     (rho(e) = e^2 up to huber_px, 2 huber_px e - huber_px^2 beyond), capped at
+//                     rho(inlier_px) (an observation past it, or of a track that cannot be
+//                     triangulated, costs the cap): the truncated robust reprojection cost that
+//                     the point-based and the pointless BA both minimise, points eliminated.
 // ||r|| is the 2D error norm in pixels. An observation is *evaluated* when its image is
 // registered and its track has >= 2 registered views; observations of a track that cannot
 // be triangulated (degenerate, behind a camera) are evaluated and count as outliers.
@@ -47,6 +52,7 @@ struct SigmaResult {
   double rms = 0.0;             // sigma_rms, px (meaningful when num_inliers > 0)
   double median = 0.0;          // sigma_median, px (meaningful when num_triangulated > 0)
   double inlier_fraction = 0.0;
+  double robust_cost = 0.0;     // px^2
   bool Computable() const { return num_inliers > 0; }
 };
 

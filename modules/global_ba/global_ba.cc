@@ -238,6 +238,18 @@ GlobalBAResult internal::RunGlobalBA(const std::map<uint32_t, Pose>& initial_pos
   return result;
 }
 
+GlobalBAOptions PaperTripletGlobalBAOptions() {
+  GlobalBAOptions o;
+  o.irls_factor = 3.0;
+  o.huber_factor = 3.0;
+  o.max_rounds = 4;
+  o.relinearize_checked = false;
+  o.relinearize_misfit = 0.5;
+  o.relinearize_tolerance = 0.5;
+  o.max_relinearizations = 3;
+  return o;
+}
+
 GlobalBAResult PointlessGlobalBA(const std::map<uint32_t, Pose>& initial_poses, const std::vector<LocalMotion>& motions,
                                  const std::vector<LocalHessian>& hessians, const GlobalBAOptions& options,
                                  const GlobalBAIterationCallback& callback, const GcpInput* gcps) {

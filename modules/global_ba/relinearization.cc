@@ -35,11 +35,11 @@ using internal::RunGlobalBA;
 using internal::SharesOf;
 using internal::TotalRobustCost;
 
-// Median over the motions `relinearized` of |W_s (x_s - x_lin_s)| / (unit_s sigma_s): how far
-// `result` moved from the linearisation points (the local poses of `hessians[i]`), in noise
-// sigmas.
+// How far `result` moved from the linearisation points (the local poses of `hessians[i]`), in
+// noise sigmas: |W_s (x_s - x_lin_s)| / (unit_s sigma_s) over the motions `relinearized`, their
+// largest value with `largest`, else their median.
 double Displacement(const GlobalBAResult& result, const std::vector<LocalHessian>& hessians,
-                    const std::vector<int>& relinearized, const GlobalBAOptions& options) {
+                    const std::vector<int>& relinearized, const GlobalBAOptions& options, bool largest) {
   std::vector<double> d;
   for (const int i : relinearized) {
     const LocalHessian& h = hessians[i];
@@ -62,7 +62,8 @@ double Displacement(const GlobalBAResult& result, const std::vector<LocalHessian
     for (const uint32_t id : h.intrinsic_camera_ids) k.push_back(result.intrinsics.at(id).values.data());
     d.push_back(f.Evaluate(x, sim.x.data(), k).norm() / (ResidualUnit(h, options) * std::sqrt(v)));
   }
-  return d.empty() ? 0.0 : UpperMedian(d);
+  if (d.empty()) return 0.0;
+  return largest ? *std::max_element(d.begin(), d.end()) : UpperMedian(d);
 }
 
 // `callback` seeing iterations counted on after `offset` (one continuous count over solves).
@@ -115,26 +116,12 @@ GlobalBAResult SolveAgain(const std::map<uint32_t, Pose>& poses, const Models& m
   return result;
 }
 
-// One Levenberg-Marquardt step on `models` from `poses`: a single iteration of the solve with
-// damping diag(J^T J) / radius (GlobalBAOptions::relinearize_damped_steps). The trust region
-// carried for the undamped solves is left as it was.
-GlobalBAResult SolveDamped(const std::map<uint32_t, Pose>& poses, const Models& models, const GlobalBAOptions& given,
-                           double radius, const GlobalBAIterationCallback& callback, const GcpInput* gcps,
-                           GlobalBASummary* total) {
-  GlobalBAOptions options = given;
-  options.max_rounds = 1;
-  options.solver.max_iterations = 1;
-  options.solver.initial_trust_region_radius = radius;
-  const double carried = total->final_trust_region_radius;
-  total->final_trust_region_radius = 0.0;
-  GlobalBAResult result = SolveAgain(poses, models, options, callback, gcps, total);
-  total->final_trust_region_radius = carried;
-  return result;
-}
+// The relative change of the true robust cost from `before` to `after` (positive: lower).
+double RelativeDecrease(double before, double after) { return (before - after) / before; }
 
 // GlobalBAOptions::relinearize_checked: Gauss-Newton over re-linearisation passes, each step
-// kept only if the true robust cost falls. A refused step is taken again, damped, from the
-// same linearisation (Levenberg-Marquardt across the passes, relinearize_damped_steps).
+// kept only if the true robust cost falls, until the stopping rule of global_ba.h says
+// converged (or the safety cap ends it).
 GlobalBAResult CheckedRelinearization(const Reconstruction& tracks, const LocalHessianOptions& lh_options,
                                       const std::map<uint32_t, Pose>& initial_poses,
                                       const std::vector<LocalMotion>& motions,
@@ -146,24 +133,16 @@ GlobalBAResult CheckedRelinearization(const Reconstruction& tracks, const LocalH
   LocalHessianOptions at_solution = lh_options;
   at_solution.solver.max_iterations = 0;
   const ObservationShares shares = SharesOf(tracks, motions, at_solution);
-
-  // A solve whose solution is re-linearised next stops at the looser tolerance.
-  GlobalBAOptions before_pass = pointless;
-  before_pass.solver.function_tolerance =
-      std::max(options.solver.function_tolerance, options.relinearized_function_tolerance);
-  before_pass.solver.stop_at_refused_step = true;
-  const auto solve_options = [&](int passes_left) -> const GlobalBAOptions& {
-    return passes_left > 0 ? before_pass : pointless;
-  };
-  // Levenberg-Marquardt across the passes: 0 while the steps are Gauss-Newton's (the solve
-  // converged on the models), else the damped step's trust-region radius (diag(J^T J) /
-  // radius), updated by the gain ratio of the true robust cost as Ceres updates its own.
-  double radius = 0.0, nu = 2.0;
-  int refusals_left = options.relinearize_damped_steps;
-  const int max_kept = options.max_relinearizations;
+  // Every solve is checked by the pass after it, at the looser tolerance.
+  GlobalBAOptions checked = pointless;
+  if (options.max_relinearizations > 0) {
+    checked.solver.function_tolerance =
+        std::max(options.solver.function_tolerance, options.relinearized_function_tolerance);
+    checked.solver.stop_at_refused_step = true;
+  }
 
   Models models(motions, hessians);
-  GlobalBAResult trial = RunGlobalBA(initial_poses, motions, hessians, solve_options(max_kept), callback, gcps);
+  GlobalBAResult trial = RunGlobalBA(initial_poses, motions, hessians, checked, callback, gcps);
   GlobalBASummary total = trial.summary;
   // The kept state: the initial poses (cost of the models taken there), then each kept step.
   GlobalBAResult kept = trial;
@@ -174,69 +153,54 @@ GlobalBAResult CheckedRelinearization(const Reconstruction& tracks, const LocalH
   }
   const std::map<uint32_t, GlobalIntrinsics> first = trial.intrinsics;
   double cost = TotalRobustCost(models.hessians(), nullptr, trial);
-  int kept_steps = 0;
-  // The solve that produces the next trial from the kept state and its models.
-  const auto next_trial = [&](int passes_left) {
-    return radius > 0 ? SolveDamped(kept.poses, models, solve_options(passes_left), radius, callback, gcps, &total)
-                      : SolveAgain(kept.poses, models, solve_options(passes_left), callback, gcps, &total);
-  };
-  while (kept_steps < max_kept) {
+  total.passes.push_back({cost, true, std::numeric_limits<double>::quiet_NaN()});
+  if (options.max_relinearizations == 0) {
+    kept = trial;
+    total.stop_reason = "no_relinearization";
+    total.converged = false;
+  }
+  while (options.max_relinearizations > 0) {
     Timer pass;
     Models::Retaken retaken = RelinearizeAt(tracks, at_solution, &shares, motions, models, trial);
     total.relinearization_seconds += pass.Seconds();
     const double trial_cost = TotalRobustCost(models.hessians(), &retaken, trial);
-    const double predicted = 2.0 * (trial.summary.initial_cost - trial.summary.final_cost);
     // An unknown starting cost (local Hessians read from an older workspace file): the first
     // step is taken unchecked.
     const bool unknown = !std::isfinite(cost);
+    const double decrease = unknown ? 1.0 : RelativeDecrease(cost, trial_cost);
     const bool refused = !unknown && !(trial_cost < cost);
-    PGBA_LOG_INFO << "global BA re-linearisation " << kept_steps + 1
-                  << (radius > 0 ? " (damped, radius " + std::to_string(radius) + ")" : std::string())
-                  << ": robust cost " << cost << " -> " << trial_cost << " (the models predicted " << predicted
-                  << " lower)"
-                  << (!refused ? " (step kept)"
-                      : refusals_left > 0 ? " (step refused: damped again from the last kept step)"
-                                          : " (step refused: stopping at the last kept step)");
+    const double displacement = Displacement(trial, models.hessians(), retaken.index, pointless, /*largest=*/true);
+    total.passes.push_back({trial_cost, !refused, displacement});
+    PGBA_LOG_DEBUG << "global BA pass " << total.passes.size() - 1 << ": robust reprojection cost " << cost
+                     << " -> " << trial_cost << ", motions moved up to " << displacement << " noise sigmas"
+                     << (refused ? " (step refused: the last kept poses stay)" : "");
     if (refused) {
-      if (refusals_left == 0) break;
-      --refusals_left;
-      if (radius > 0) {
-        radius /= nu;
-        nu *= 2.0;
-      } else {
-        radius = options.relinearize_damping_radius;
-      }
-      trial = next_trial(max_kept - kept_steps);
-      continue;
+      total.stop_reason = "refused_step";
+      total.converged = -decrease <= options.relinearize_cost_tolerance;
+      break;
     }
-    const double decrease = unknown ? 1.0 : (cost - trial_cost) / cost;
-    // How far the step moved from the models it was solved with, in noise sigmas.
-    total.relinearization_displacement = Displacement(trial, models.hessians(), retaken.index, pointless);
     models.Adopt(std::move(retaken));
-    const double gain = predicted > 0 && !unknown ? (cost - trial_cost) / predicted : 1.0;
     cost = trial_cost;
     kept = trial;
-    total.relinearizations = ++kept_steps;
-    // A damped step that was kept: the radius grows with the gain ratio (Ceres' rule), back
-    // to Gauss-Newton's undamped solve once the damping is negligible. A damped step's small
-    // displacement says nothing of convergence.
-    const bool damped = radius > 0;
-    if (damped) {
-      radius /= std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * std::min(gain, 1.0) - 1.0, 3));
-      nu = 2.0;
-      if (radius >= options.solver.initial_trust_region_radius) radius = 0.0;
-    }
-    if (decrease < options.relinearize_cost_tolerance ||
-        (!damped && total.relinearization_displacement < options.relinearize_tolerance))
+    total.relinearizations += 1;
+    total.relinearization_displacement = displacement;
+    if (decrease < options.relinearize_cost_tolerance) {
+      total.stop_reason = "cost_tolerance";
       break;
-    trial = next_trial(max_kept - kept_steps);
-    // The last solve is taken as it is: its own check would cost one more pass, and it starts
-    // from models that a kept step just produced (the same as the unchecked re-linearisation).
-    if (kept_steps == max_kept) kept = trial;
+    }
+    if (displacement < options.relinearize_tolerance) {
+      total.stop_reason = "step_tolerance";
+      break;
+    }
+    if (total.relinearizations == options.max_relinearizations) {
+      total.stop_reason = "max_relinearizations";
+      total.converged = false;
+      break;
+    }
+    trial = SolveAgain(kept.poses, models, checked, callback, gcps, &total);
   }
-  if (total.relinearizations == 0)
-    PGBA_LOG_WARN << "global BA: the re-linearised first step raised the robust reprojection cost; the initial poses "
-                     "are kept";
+  if (total.relinearizations == 0 && total.stop_reason == "refused_step")
+    PGBA_LOG_WARN << "global BA: the first step raised the reprojection cost; the initial poses are kept";
   total.final_cost = kept.summary.final_cost;
   total.robust_scale = kept.summary.robust_scale;
   total.num_motions_downweighted = kept.summary.num_motions_downweighted;
@@ -247,66 +211,13 @@ GlobalBAResult CheckedRelinearization(const Reconstruction& tracks, const LocalH
   return kept;
 }
 
-// GlobalBAOptions::relinearize_robust_passes_self_calibrating: the checked passes first on
-// Cauchy local Hessians (taken again at the motions' linearisation points), then on models
-// with the configured loss re-taken where those passes ended.
-GlobalBAResult RobustThenChecked(const Reconstruction& tracks, const LocalHessianOptions& lh_options,
-                                 const std::map<uint32_t, Pose>& initial_poses, const std::vector<LocalMotion>& motions,
-                                 const std::vector<LocalHessian>& hessians, const GlobalBAOptions& options,
-                                 const GlobalBAIterationCallback& callback, const GcpInput* gcps) {
-  Timer timer;
-  LocalHessianOptions robust = lh_options;
-  robust.loss.type = LossType::kCauchy;
-  const FreeIntrinsics free = FreeIntrinsicsOf(hessians);
-  const ObservationShares shares = SharesOf(tracks, motions, robust);
-  const LocalHessianResult first = ComputeLocalHessians(tracks, motions, robust, &shares, &free);
-  const double first_seconds = timer.Seconds();
-  GlobalBAOptions robust_passes = options;
-  robust_passes.max_relinearizations = options.relinearize_robust_passes_self_calibrating;
-  const GlobalBAResult r =
-      CheckedRelinearization(tracks, robust, initial_poses, motions, first.hessians, robust_passes, callback, gcps);
-  PGBA_LOG_INFO << "global BA: " << r.summary.relinearizations << " redescending (Cauchy) passes, then the local "
-                << "hessians with the " << LossTypeName(lh_options.loss.type) << " loss";
-  // The configured models where the Cauchy passes ended (the others as given).
-  Timer retake;
-  LocalHessianOptions at_solution = lh_options;
-  at_solution.solver.max_iterations = 0;
-  Models models(motions, hessians);
-  models.Adopt(RelinearizeAt(tracks, at_solution, &shares, motions, models, r));
-  const double retake_seconds = retake.Seconds();
-  const int offset = r.summary.iterations;
-  const GlobalBAIterationCallback shifted = Shifted(callback, offset);
-  GlobalBAResult out = CheckedRelinearization(tracks, lh_options, r.poses, models.frames(), models.hessians(), options,
-                                              shifted, gcps);
-  GlobalBASummary& s = out.summary;
-  s.iterations += r.summary.iterations;
-  s.rounds += r.summary.rounds;
-  s.relinearizations += r.summary.relinearizations + 1;
-  s.relinearization_seconds += r.summary.relinearization_seconds + first_seconds + retake_seconds;
-  s.cost_per_iteration.insert(s.cost_per_iteration.begin(), r.summary.cost_per_iteration.begin(),
-                              r.summary.cost_per_iteration.end());
-  s.initial_cost = r.summary.initial_cost;
-  s.seconds = timer.Seconds();
-  for (auto& [id, k] : out.intrinsics) k.initial = r.intrinsics.at(id).initial;  // before every pass
-  return out;
-}
-
-}  // namespace
-
-GlobalBAResult RelinearizedGlobalBA(const Reconstruction& tracks, const LocalHessianOptions& lh_options,
-                                    const std::map<uint32_t, Pose>& initial_poses,
-                                    const std::vector<LocalMotion>& motions, const std::vector<LocalHessian>& hessians,
-                                    const GlobalBAOptions& options, const GlobalBAIterationCallback& callback,
-                                    const GcpInput* gcps) {
-  if (options.relinearize_checked) {
-    GlobalBAOptions passes = options;
-    const bool self_calibrating =
-        std::any_of(hessians.begin(), hessians.end(), [](const LocalHessian& h) { return h.num_intrinsics() > 0; });
-    if (self_calibrating) passes.max_relinearizations = options.max_relinearizations_self_calibrating;
-    if (self_calibrating && options.relinearize_robust_passes_self_calibrating > 0)
-      return RobustThenChecked(tracks, lh_options, initial_poses, motions, hessians, passes, callback, gcps);
-    return CheckedRelinearization(tracks, lh_options, initial_poses, motions, hessians, passes, callback, gcps);
-  }
+// The paper's unchecked re-linearisation (relinearize_checked false): PointlessGlobalBA, then,
+// if the misfit trigger fires, passes until the median displacement is below the tolerance.
+GlobalBAResult UncheckedRelinearization(const Reconstruction& tracks, const LocalHessianOptions& lh_options,
+                                        const std::map<uint32_t, Pose>& initial_poses,
+                                        const std::vector<LocalMotion>& motions,
+                                        const std::vector<LocalHessian>& hessians, const GlobalBAOptions& options,
+                                        const GlobalBAIterationCallback& callback, const GcpInput* gcps) {
   Timer timer;
   GlobalBAOptions pointless = options;
   pointless.weighting = TripletWeighting::kHessian;
@@ -314,15 +225,20 @@ GlobalBAResult RelinearizedGlobalBA(const Reconstruction& tracks, const LocalHes
   GlobalBASummary total = result.summary;
   const bool trigger = options.relinearize_misfit <= 0 || total.misfit_ratio > options.relinearize_misfit;
   const std::map<uint32_t, GlobalIntrinsics> first = result.intrinsics;
+  total.stop_reason = options.max_relinearizations == 0 ? "no_relinearization" : "misfit_below_threshold";
+  total.converged = options.max_relinearizations > 0;
   if (options.max_relinearizations > 0 && trigger) {
-    PGBA_LOG_INFO << "global BA: misfit " << total.misfit_ratio << " (local models disagree with their consensus): "
-                  << "re-linearising the local hessians at the solution";
+    PGBA_LOG_DEBUG << "global BA: misfit " << total.misfit_ratio
+                     << " (local models disagree with their consensus): re-linearising the local hessians at the "
+                        "solution";
     LocalHessianOptions at_solution = lh_options;
     at_solution.solver.max_iterations = 0;  // h and g where the solution puts the motion, points re-triangulated
     const ObservationShares shares = SharesOf(tracks, motions, at_solution);
     // The frames carry the local frame of each re-linearised model (its similarity from the
     // solution), for SimilarityInit::kFromTriplet.
     Models models(motions, hessians);
+    total.stop_reason = "max_relinearizations";
+    total.converged = false;
     for (int k = 1; k <= options.max_relinearizations; ++k) {
       Timer pass;
       Models::Retaken retaken = RelinearizeAt(tracks, at_solution, &shares, motions, models, result);
@@ -336,17 +252,39 @@ GlobalBAResult RelinearizedGlobalBA(const Reconstruction& tracks, const LocalHes
       total.num_motions_downweighted = s.num_motions_downweighted;
       total.misfit_ratio = s.misfit_ratio;
       total.relinearizations = k;
-      total.relinearization_displacement = Displacement(result, models.hessians(), relinearized, pointless);
-      PGBA_LOG_INFO << "global BA re-linearisation " << k << ": " << relinearized.size()
-                    << " local hessians at the solution, moved " << total.relinearization_displacement
-                    << " noise sigmas from them, misfit " << total.misfit_ratio;
-      if (total.relinearization_displacement < options.relinearize_tolerance) break;
+      total.relinearization_displacement =
+          Displacement(result, models.hessians(), relinearized, pointless, /*largest=*/false);
+      PGBA_LOG_DEBUG << "global BA re-linearisation " << k << ": " << relinearized.size()
+                       << " local hessians at the solution, moved " << total.relinearization_displacement
+                       << " noise sigmas from them, misfit " << total.misfit_ratio;
+      if (total.relinearization_displacement < options.relinearize_tolerance) {
+        total.stop_reason = "step_tolerance";
+        total.converged = true;
+        break;
+      }
     }
   }
   total.seconds = timer.Seconds();
   result.summary = total;
   for (auto& [id, k] : result.intrinsics) k.initial = first.at(id).initial;  // before every pass
   return result;
+}
+
+}  // namespace
+
+GlobalBAResult RelinearizedGlobalBA(const Reconstruction& tracks, const LocalHessianOptions& lh_options,
+                                    const std::map<uint32_t, Pose>& initial_poses,
+                                    const std::vector<LocalMotion>& motions, const std::vector<LocalHessian>& hessians,
+                                    const GlobalBAOptions& options, const GlobalBAIterationCallback& callback,
+                                    const GcpInput* gcps) {
+  GlobalBAResult r =
+      options.relinearize_checked
+          ? CheckedRelinearization(tracks, lh_options, initial_poses, motions, hessians, options, callback, gcps)
+          : UncheckedRelinearization(tracks, lh_options, initial_poses, motions, hessians, options, callback, gcps);
+  if (r.summary.stop_reason == "max_relinearizations")
+    PGBA_LOG_WARN << "global BA: not converged after " << r.summary.relinearizations
+                  << " re-linearisations (global_ba.max_relinearizations); the poses are the last pass's";
+  return r;
 }
 
 }  // namespace pgba

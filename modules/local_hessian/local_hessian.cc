@@ -136,6 +136,15 @@ ObservationShares CountObservationShares(const Reconstruction& tracks, const std
   return shares;
 }
 
+LocalHessianOptions PaperTripletLocalHessianOptions() {
+  LocalHessianOptions o;
+  o.solver.max_iterations = 1;
+  o.attenuation_q = 10.0;
+  o.min_eigenvalue_ratio = 1e-10;
+  o.factor = HessianFactor::kEigen;
+  return o;
+}
+
 LocalHessianResult ComputeLocalHessians(const Reconstruction& tracks, const std::vector<LocalMotion>& motions,
                                         const LocalHessianOptions& options, const ObservationShares* given,
                                         const FreeIntrinsics* free) {

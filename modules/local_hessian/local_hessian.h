@@ -85,17 +85,23 @@ inline SolverOptions LocalBundleSolverOptions(int max_iterations) {
   return solver;
 }
 
+// The defaults are pgba's method, whole-track motions (whole_track_motions.h), where the sum of
+// the local Hessians must stay the point-based BA's reduced camera system: every observation
+// weighs 1 (no attenuation), no rank test (a direction one motion's tracks do not see is seen
+// by others), h taken at the given poses (no local BA: the global BA's re-linearisation is the
+// next Gauss-Newton step, the points eliminated), factored by LDLT. The paper's triplet method
+// is PaperTripletLocalHessianOptions() (configs/paper_triplets.json states it for a run).
 struct LocalHessianOptions {
   // The local BA's solve; config key "max_iterations" (solver.max_iterations): its
   // Levenberg-Marquardt iterations (paper: a single iteration from the triplet BA's solution;
   // more converge x0 further, 0 takes h at the input poses).
-  SolverOptions solver = LocalBundleSolverOptions(1);
+  SolverOptions solver = LocalBundleSolverOptions(0);
   // Attenuation: each observation's squared residual is weighted by gamma / M with
   // gamma = M Q / (M + Q), i.e. by Q / (M + Q), M the triplet's number of points: every
   // triplet then weighs like ~Q points (paper, implementation details). Q <= 0 or +inf
   // disables it: weight 1 per observation, h is the plain (unattenuated) information and
   // grows with M.
-  double attenuation_q = 10.0;
+  double attenuation_q = 0.0;
   // Robust loss on the pixel reprojection error of the local BA, of h's IRLS weights and of
   // the robust cost: config key "loss", "huber" (default) or "cauchy" (the point-based BA's
   // first pass: redescending, a camera far off still feels the observations it lost), and
@@ -129,8 +135,8 @@ struct LocalHessianOptions {
   // triplet) must be at least this fraction of the largest, or the motion is rejected as
   // ill-conditioned. <= 0: no rank test (the eigenvalues are then not computed: the
   // prior's largest eigenvalue comes from power iterations).
-  double min_eigenvalue_ratio = 1e-10;
-  HessianFactor factor = HessianFactor::kEigen;
+  double min_eigenvalue_ratio = 0.0;
+  HessianFactor factor = HessianFactor::kLdlt;
   // Minimum triangulation angle of a triplet point (degrees); 0 keeps every point.
   double min_triangulation_angle_deg = 0.0;
   // TBB threads over triplets; 0 = all available.
@@ -164,6 +170,11 @@ void JsonFields(LocalHessianOptions& o, Visit&& visit) {
   visit("factor", o.factor);
 }
 PGBA_JSON_FROM_FIELDS(LocalHessianOptions)
+
+// The paper's triplet method (section 3): one local BA iteration from the triplet BA's
+// solution, each observation attenuated by gamma / M (Q 10), the rank test at 1e-10, h
+// eigen-decomposed (eq. 5). configs/paper_triplets.json states the same values.
+LocalHessianOptions PaperTripletLocalHessianOptions();
 
 enum class LocalHessianStatus {
   kOk = 0,

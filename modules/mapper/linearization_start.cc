@@ -53,9 +53,9 @@ std::map<uint32_t, Pose> TripletPointlessStart(const Reconstruction& tracks, con
                                                int max_per_image) {
   const std::vector<LocalMotion> triplets = TripletStartSubset(all_triplets, max_per_image);
   // The triplets come converged from their own BA (triplet stage): h is taken where they are.
-  LocalHessianOptions paper_lh;
+  LocalHessianOptions paper_lh = PaperTripletLocalHessianOptions();
   paper_lh.solver.max_iterations = 0;
-  GlobalBAOptions paper_ba;
+  GlobalBAOptions paper_ba = PaperTripletGlobalBAOptions();
   paper_ba.max_rounds = 1;
   paper_ba.max_relinearizations = 0;
   paper_ba.solver.max_iterations = max_iterations;

@@ -18,6 +18,7 @@ std::string PointlessMapperOptions::Check() const {
   if (const std::string p = refinement.Check(); !p.empty()) return p;
   if (const std::string p = gcp.Check(); !p.empty()) return "gcp." + p;
   if (const std::string p = convergence.Check(); !p.empty()) return "convergence." + p;
+  if (const std::string p = verification.Check(); !p.empty()) return p;
   return "";
 }
 
@@ -26,6 +27,7 @@ void AddPointlessMapperSections(ConfigSchema* schema) {
   AddRefinementSections(schema);
   schema->Add("gcp", GcpOptions{});
   schema->Add("convergence", ConvergenceOptions{});
+  schema->Add("verification", ImageVerificationOptions{});
 }
 
 void ReadPointlessMapperOptions(const Config& config, PointlessMapperOptions* options) {
@@ -33,6 +35,7 @@ void ReadPointlessMapperOptions(const Config& config, PointlessMapperOptions* op
   ReadRefinementOptions(config, &options->refinement);
   ReadSection(config, "gcp", &options->gcp);
   ReadSection(config, "convergence", &options->convergence);
+  ReadSection(config, "verification", &options->verification);
   if (const std::string problem = options->Check(); !problem.empty()) ThrowInputError(config.origin(), 0, problem);
 }
 
@@ -185,7 +188,32 @@ void CheckFinalGcps(const GcpInput& gcps, const std::map<uint32_t, Pose>& poses,
                 << check.max << " m";
 }
 
-// Step 8: every track triangulated with the refined poses (and the refined intrinsics).
+// Step 8: every registered image verified; the failing ones registered again or dropped.
+void VerifyImages(const Reconstruction& tracks, const std::vector<TwoViewGeometry>& pairs,
+                  const ImageVerificationOptions& options, Report* report, PointlessMapperResult* r) {
+  if (!options.enabled) return;
+  StageTimer timer(report, "verification");
+  const Reconstruction calibrated = r->refined.cameras.empty() ? Reconstruction() : TracksWithCameras(tracks, r->refined.cameras);
+  const Reconstruction& t = r->refined.cameras.empty() ? tracks : calibrated;
+  r->verification = VerifyRegisteredImages(t, pairs, r->refined.poses, options);
+  timer.Stop().update(r->verification.ToJson(tracks));
+  r->refined.poses = r->verification.poses;
+  const ImageVerificationResult& v = r->verification;
+  PGBA_LOG_INFO << "verification: " << v.verdicts.size() - v.num_reregistered - v.num_dropped << " of "
+                << v.verdicts.size() << " images agree with their observations and verified pairs"
+                << (v.num_reregistered ? ", " + std::to_string(v.num_reregistered) + " registered again" : "")
+                << (v.num_dropped ? ", " + std::to_string(v.num_dropped) + " dropped" : "");
+  for (const ImageVerdict& d : v.verdicts) {
+    const std::string& name = tracks.images.at(d.image_id).name;
+    if (d.status == ImageVerdictStatus::kReregistered)
+      PGBA_LOG_WARN << "image " << name << " registered again from the structure (moved " << d.moved_deg
+                    << " deg): its adjusted pose failed verification: " << d.reason;
+    else if (d.status == ImageVerdictStatus::kDropped)
+      PGBA_LOG_WARN << "image " << name << " dropped: " << d.reason;
+  }
+}
+
+// Step 9: every track triangulated with the final poses (and the refined intrinsics).
 Reconstruction Triangulate(const Reconstruction& tracks, const RefinementResult& refined, Report* report) {
   StageTimer timer(report, "triangulation");
   Reconstruction model = refined.cameras.empty() ? TriangulateModel(tracks, refined.poses)
@@ -202,6 +230,8 @@ void RecordImages(const Reconstruction& tracks, const PointlessMapperResult& r, 
     dropped.push_back(tracks.images.at(id).name);
     PGBA_LOG_WARN << "image dropped (in no usable triplet of the global BA): " << tracks.images.at(id).name;
   }
+  for (const ImageVerdict& v : r.verification.verdicts)
+    if (v.status == ImageVerdictStatus::kDropped) dropped.push_back(tracks.images.at(v.image_id).name);
   (*report)["images_input"] = tracks.images.size();
   (*report)["images_registered"] = r.refined.poses.size();
   (*report)["images_dropped"] = dropped;
@@ -261,7 +291,9 @@ PointlessMapperResult PointlessMapper::Solve(const Reconstruction& input, Report
     timer.Stop().update(r.convergence.ToJson());
   }
   r.refined.history.clear();
-  // 8. Points triangulated with the final poses.
+  // 8. Every registered image verified; a failing one registered again or dropped.
+  VerifyImages(tracks(), r.initial.pairs, options_.verification, report, &r);
+  // 9. Points triangulated with the final poses.
   r.model = Triangulate(tracks(), r.refined, report);
   RecordImages(tracks(), r, report);
   return r;

@@ -6,8 +6,10 @@
 //   4. rotation and translation averaging: the initial poses, each triplet's similarity
 //   5. relative motions and their local Hessians (paper eqs. 1-3)
 //   6. GCPs: the initial solution moved into their frame (with a GCP file)
-//   7. pointless global BA (paper eq. 5), re-linearised at its solution
-//   8. points triangulated with the final poses
+//   7. pointless global BA (paper eq. 5), re-linearised at its solution until converged
+//   8. every registered image verified against its observations and its verified pairs;
+//      a failing one registered again from the structure or dropped (image_verification.h)
+//   9. points triangulated with the final poses
 // `pgba init` runs steps 1-4 (RunGlobalMapper), `pgba reconstruct` and `pgba run` all of them;
 // a workspace re-run (ReadMapperWorkspace, mapper_workspace.h) starts with the artefacts of steps 1-5 on disk, and
 // Solve runs only the steps whose artefact it does not hold.
@@ -19,6 +21,7 @@
 #include "gcp/gcp_alignment.h"
 #include "mapper/convergence_curve.h"
 #include "mapper/global_mapper.h"
+#include "mapper/image_verification.h"
 #include "mapper/pose_refinement.h"
 #include "pgba/io/json_config.h"
 #include "pgba/io/report.h"
@@ -36,6 +39,7 @@ struct PointlessMapperOptions {
   // The sigma curve over the pointless BA's iterations (paper Figure 3) in the report.
   bool record_convergence = false;  // not a config key (`pgba run` sets it)
   ConvergenceOptions convergence;   // section "convergence"
+  ImageVerificationOptions verification;  // step 8: section "verification"
   // Stop after step 4, the initial solution (`pgba init`). Not a config key.
   bool skip_refinement = false;
 
@@ -51,8 +55,9 @@ void ReadPointlessMapperOptions(const Config& config, PointlessMapperOptions* op
 struct PointlessMapperResult {
   GlobalMapperResult initial;  // steps 1-4 (initial.init.success: done)
   PreparedHessians hessians;   // step 5 (motions empty: not done)
-  RefinementResult refined;    // step 7
-  Reconstruction model;        // step 8: the tracks triangulated with the refined poses
+  RefinementResult refined;    // step 7 (its poses: after step 8's verification)
+  ImageVerificationResult verification;  // step 8
+  Reconstruction model;        // step 9: the tracks triangulated with the final poses
   ConvergenceCurve convergence;
 };
 
@@ -64,7 +69,7 @@ class PointlessMapper {
   // Runs the steps whose artefact `state` does not hold yet (all of them from an empty state),
   // each timed in `report` as a stage ("pairs", "focal_estimation", "pairs_recalibrated",
   // "triplets", "global_init", "local_hessians", "gcp_alignment", "global_ba", "gcp_check",
-  // "convergence", "triangulation"). `front_end`: the image front end's verified geometries
+  // "convergence", "verification", "triangulation"). `front_end`: the image front end's verified geometries
   // of these tracks (`pgba run`), or null. InputError when no reconstruction is possible,
   // with the reason.
   PointlessMapperResult Solve(const Reconstruction& tracks, Report* report, PointlessMapperResult state = {},

@@ -13,26 +13,6 @@
 
 namespace pgba {
 
-LocalHessianOptions WholeTrackLocalHessianOptions() {
-  LocalHessianOptions o;
-  o.attenuation_q = 0.0;
-  o.min_eigenvalue_ratio = 0.0;
-  o.solver.max_iterations = 0;
-  o.factor = HessianFactor::kLdlt;
-  return o;
-}
-
-GlobalBAOptions WholeTrackGlobalBAOptions() {
-  GlobalBAOptions o;
-  o.irls_factor = 0.0;
-  o.huber_factor = 0.0;
-  o.max_rounds = 1;
-  o.relinearize_misfit = 0.0;
-  o.relinearize_checked = true;
-  o.max_relinearizations = 1;
-  return o;
-}
-
 void AddRefinementSections(ConfigSchema* schema) {
   const RefinementOptions defaults;
   schema->Add("local_motions", defaults.local_motions)
@@ -189,10 +169,9 @@ RefinementResult RefineOnMotions(const char* method, const Reconstruction& track
 RefinementResult RefinePointless(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
                                  const PreparedHessians& hessians, const RefinementOptions& options,
                                  bool record_history, const GcpInput* gcps) {
-  // The local Hessians re-linearised at the solution (global_ba.h); their passes count as
-  // adjustment time.
-  GlobalBAOptions pointless = options.global_ba;
-  if (hessians.triplet_start()) pointless.max_relinearizations = pointless.max_relinearizations_far_start;
+  // The local Hessians re-linearised at the solution until converged (global_ba.h); their
+  // passes count as adjustment time.
+  const GlobalBAOptions& pointless = options.global_ba;
   GlobalBASummary summary;
   RefinementResult r = RefineOnMotions(
       "pointless", tracks, initial, hessians, options, record_history,
@@ -205,6 +184,14 @@ RefinementResult RefinePointless(const Reconstruction& tracks, const std::map<ui
   r.details["misfit_ratio_initial"] = NumberOrNull(summary.misfit_ratio_initial);
   r.details["misfit_ratio"] = NumberOrNull(summary.misfit_ratio);
   r.details["relinearizations"] = summary.relinearizations;
+  r.details["converged"] = summary.converged;
+  r.details["stop_reason"] = summary.stop_reason;
+  nlohmann::json passes = nlohmann::json::array();
+  for (const GlobalBASummary::Pass& p : summary.passes)
+    passes.push_back({{"robust_cost", NumberOrNull(p.robust_cost)},
+                      {"kept", p.kept},
+                      {"displacement_sigmas", NumberOrNull(p.displacement)}});
+  r.details["passes"] = std::move(passes);
   r.details["relinearization_seconds"] = summary.relinearization_seconds;
   r.details["triplet_rotation_misfit"] = hessians.triplet_rotation_misfit;
   r.details["triplet_start"] = hessians.triplet_start();

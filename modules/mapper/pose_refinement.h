@@ -44,27 +44,11 @@ struct PointBasedOptions {
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(PointBasedOptions, bundle, first_pass_loss, filter_max_error_px)
 
-// The local Hessian and global BA settings of the default method, whole-track motions
-// (whole_track_motions.h). The stages' own structs keep the paper's triplet settings as their
-// defaults (configs/paper_triplets.json states them for a pipeline run); these differ where
-// the sum of the local Hessians must stay the point-based reduced camera system:
-//   local_hessian: attenuation off (every observation weight 1, as in a point-based BA), the
-//     rank test off (a direction of h that the motion's tracks do not see is seen by other
-//     motions), h taken at the initial poses (max_iterations 0: no local BA; the global BA's
-//     re-linearisation is the next Gauss-Newton step, with the points eliminated), factored
-//     by LDLT (HessianFactor::kLdlt);
-//   global_ba: no robust loss or IRLS weight on the motions (observations are robustified
-//     in the local Hessians, with the point-based BA's Huber and 4 px filter), one round,
-//     and the local Hessians re-linearised once at the solution, the step kept only if it
-//     lowers the true robust reprojection cost (relinearize_checked).
-LocalHessianOptions WholeTrackLocalHessianOptions();
-GlobalBAOptions WholeTrackGlobalBAOptions();
-
 // One options struct per stage, each read from the config section of the same name.
 struct RefinementOptions {
   LocalMotionOptions local_motions;                                      // section "local_motions"
-  LocalHessianOptions local_hessian = WholeTrackLocalHessianOptions();  // section "local_hessian"
-  GlobalBAOptions global_ba = WholeTrackGlobalBAOptions();              // section "global_ba"
+  LocalHessianOptions local_hessian;                                     // section "local_hessian"
+  GlobalBAOptions global_ba;                                             // section "global_ba"
   PointBasedOptions point_based;                                         // section "point_based"
   // Self-calibration (paper, "Self-calibrating bundle adjustment"): the intrinsic unknowns of
   // every adjustment (local Hessians, pointless global BA, point-based BA).

@@ -186,7 +186,7 @@ GcpScenario MakeGcpScenario() {
 
 TEST(GcpGlobalBA, ShiftedGcpPullsTheBlockLikeARigidBody) {
   const GcpScenario s = MakeGcpScenario();
-  const GlobalBAOptions options;
+  const GlobalBAOptions options = PaperTripletGlobalBAOptions();
   GcpInput in;
   const double sigma = 0.02 * s.extent;
   std::vector<GcpFileEntry> entries = MakeGcps(s.rec, s.S, 6, sigma);

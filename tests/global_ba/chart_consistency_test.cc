@@ -32,12 +32,12 @@ TEST(ChartConsistency, GlobalResidualPredictsReprojectionCost) {
   const Reconstruction rec = MakeRingScene(so);
   std::mt19937_64 rng(13);
   const LocalMotion t = MakeTriplet(rec, {5, 6, 8}, rng);
-  const LocalHessian lh = ComputeLocalHessian(rec, t, 0, LocalHessianOptions());
+  const LocalHessian lh = ComputeLocalHessian(rec, t, 0, PaperTripletLocalHessianOptions());
   ASSERT_EQ(lh.status, LocalHessianStatus::kOk);
   LocalMotion t0 = t;
   t0.local_poses = lh.local_poses;
   LocalBundleProblem p;
-  ASSERT_EQ(BuildLocalBundleProblem(rec, t0, LocalHessianOptions(), &p), LocalHessianStatus::kOk);
+  ASSERT_EQ(BuildLocalBundleProblem(rec, t0, PaperTripletLocalHessianOptions(), &p), LocalHessianStatus::kOk);
 
   // Global side: true poses, the exact similarity, W = D V.
   std::vector<Pose> global(3);
@@ -49,7 +49,7 @@ TEST(ChartConsistency, GlobalResidualPredictsReprojectionCost) {
     R0[k] = blocks[k].R0;
   }
   const MotionSimilarity sim = SimilarityFromSim3(global, t.global_to_local);
-  const MotionWeight W = MotionWeightOf(lh, GlobalBAOptions());
+  const MotionWeight W = MotionWeightOf(lh, PaperTripletGlobalBAOptions());
   // Global cost with the poses fixed and the similarity minimised over.
   auto global_cost = [&](std::vector<PoseBlock> b) {
     MotionSimilarity s = sim;

@@ -169,7 +169,7 @@ struct TripletsWithHessians {
   LocalHessianResult hessians;
 };
 inline TripletsWithHessians BuildTripletsWithHessians(const Reconstruction& rec, int window, bool closed,
-                                                      uint64_t seed, const LocalHessianOptions& options = {}) {
+                                                      uint64_t seed, const LocalHessianOptions& options = PaperTripletLocalHessianOptions()) {
   std::mt19937_64 rng(seed);
   TripletsWithHessians out;
   out.triplets = MakeRingTriplets(rec, window, closed, rng);

@@ -47,7 +47,7 @@ RingMotions MakeRingMotions() {
   WholeTrackMotionOptions mo;
   mo.max_views = 6;
   r.motions = SelectWholeTrackMotions(r.rec, r.initial, mo);
-  r.hessians = ComputeLocalHessians(r.rec, r.motions, WholeTrackLocalHessianOptions());
+  r.hessians = ComputeLocalHessians(r.rec, r.motions, LocalHessianOptions());
   return r;
 }
 
@@ -60,7 +60,7 @@ TEST(MotionBlockSolver, SameSolutionAsCeresOnTheSameObjective) {
   const LocalHessianResult& hessians = ring.hessians;
   ASSERT_EQ(hessians.num_ok(), static_cast<int>(motions.size()));
 
-  GlobalBAOptions blocks = WholeTrackGlobalBAOptions();
+  GlobalBAOptions blocks = GlobalBAOptions();
   blocks.solver.function_tolerance = 1e-12;
   blocks.solver.parameter_tolerance = 1e-14;
   blocks.solver.max_iterations = 50;
@@ -107,7 +107,7 @@ TEST(MotionBlockSolver, SameSolutionAsCeresOnTheSameObjective) {
 // fewer iterations (the similarities' scales and the poses enter the residual bilinearly).
 TEST(MotionBlockSolver, EmbeddedSimilarityIterationsReachTheSameOptimumSooner) {
   const RingMotions ring = MakeRingMotions();
-  GlobalBAOptions embedded = WholeTrackGlobalBAOptions();
+  GlobalBAOptions embedded = GlobalBAOptions();
   embedded.solver.function_tolerance = 1e-12;
   embedded.solver.parameter_tolerance = 1e-14;
   embedded.solver.max_iterations = 100;

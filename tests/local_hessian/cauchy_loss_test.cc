@@ -1,6 +1,5 @@
-// The local Hessians under the redescending loss (LocalHessianOptions::loss "cauchy", the
-// checked re-linearisation's first passes when self-calibrating,
-// GlobalBAOptions::relinearize_robust_passes_self_calibrating): which observations they keep,
+// The local Hessians under the redescending loss (LocalHessianOptions::loss "cauchy"): which
+// observations they keep,
 // where their points sit, and h and the robust cost against Ceres' own Cauchy cost.
 #include <ceres/ceres.h>
 #include <gtest/gtest.h>
@@ -93,7 +92,7 @@ TEST(CauchyLocalHessian, EqualsInverseOfCameraBlockOfDenseCovariance) {
   const Reconstruction rec = SceneWithShiftedObservations();
   std::mt19937_64 rng(3);
   const LocalMotion t = MakeTriplet(rec, {1, 2, 4}, rng);
-  LocalHessianOptions opt;
+  LocalHessianOptions opt = PaperTripletLocalHessianOptions();
   opt.loss.type = LossType::kCauchy;
   opt.solver.max_iterations = 5;
   LocalBundleProblem p;

@@ -35,7 +35,7 @@ Fixture Make() {
   f.rec = MakeRingScene(o);
   std::mt19937_64 rng(6);
   f.triplets = MakeRingTriplets(f.rec, 3, false, rng);
-  f.result = ComputeLocalHessians(f.rec, f.triplets, LocalHessianOptions());
+  f.result = ComputeLocalHessians(f.rec, f.triplets, PaperTripletLocalHessianOptions());
   f.result.hessians[1].status = LocalHessianStatus::kIllConditioned;  // a rejected entry too
   --f.result.status_counts[static_cast<int>(LocalHessianStatus::kOk)];
   ++f.result.status_counts[static_cast<int>(LocalHessianStatus::kIllConditioned)];
@@ -138,7 +138,7 @@ TEST(LocalHessianIo, FiveViewMotionsRoundTripAndAreCheckedAgainstTheMotions) {
   o.views = 5;
   const std::vector<LocalMotion> motions = SelectLocalMotions(f.rec, PosesOf(f.rec), o);
   ASSERT_FALSE(motions.empty());
-  const LocalHessianResult result = ComputeLocalHessians(f.rec, motions, LocalHessianOptions());
+  const LocalHessianResult result = ComputeLocalHessians(f.rec, motions, PaperTripletLocalHessianOptions());
   ASSERT_EQ(result.num_ok(), static_cast<int>(motions.size()));
   const fs::path p = fs::temp_directory_path() / "pgba_lh_motions.json";
   WriteLocalHessians(p, f.rec, result);

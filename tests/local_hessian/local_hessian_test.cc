@@ -35,7 +35,7 @@ TEST(LocalHessian, EqualsInverseOfCameraBlockOfDenseCovariance) {
   const Reconstruction rec = MakeRingScene(so);
   std::mt19937_64 rng(3);
   const LocalMotion t = MakeTriplet(rec, {1, 2, 4}, rng);
-  LocalHessianOptions opt;
+  LocalHessianOptions opt = PaperTripletLocalHessianOptions();
   opt.solver.max_iterations = 5;
   LocalBundleProblem p;
   ASSERT_EQ(BuildLocalBundleProblem(rec, t, opt, &p), LocalHessianStatus::kOk);
@@ -89,7 +89,7 @@ TEST(LocalHessian, PredictsPointBasedCostAlongEigenvectors) {
   const Reconstruction rec = MakeRingScene(so);
   std::mt19937_64 rng(9);
   const LocalMotion t = MakeTriplet(rec, {3, 4, 6}, rng);
-  const LocalHessianOptions opt;
+  const LocalHessianOptions opt = PaperTripletLocalHessianOptions();
   const LocalHessian lh = ComputeLocalHessian(rec, t, 0, opt);
   ASSERT_EQ(lh.status, LocalHessianStatus::kOk);
   EXPECT_LT(lh.rms_px, 1e-6);
@@ -142,7 +142,7 @@ TEST(LocalHessian, DecompositionAndPriorAreConsistent) {
   const Reconstruction rec = MakeRingScene(so);
   std::mt19937_64 rng(1);
   const LocalMotion t = MakeTriplet(rec, {7, 8, 9}, rng);
-  const LocalHessian lh = ComputeLocalHessian(rec, t, 4, LocalHessianOptions());
+  const LocalHessian lh = ComputeLocalHessian(rec, t, 4, PaperTripletLocalHessianOptions());
   ASSERT_EQ(lh.status, LocalHessianStatus::kOk);
   EXPECT_EQ(lh.motion_index, 4);
   EXPECT_LT(RelativeDifference(lh.V.transpose() * lh.D.cwiseAbs2().asDiagonal() * lh.V, lh.h, lh.depth_scale), 1e-12);
@@ -168,7 +168,7 @@ TEST(LocalHessian, DecompositionAndPriorAreConsistent) {
   const double lmax = Eigen::SelfAdjointEigenSolver<Matrix18d>(sc.asDiagonal() * h0 * sc.asDiagonal()).eigenvalues()(17);
   EXPECT_NEAR(lh.prior_mu / lmax, 1e-3, 1e-12);
   // The isotropic prior of the ARCHITECTURE lesson: mu / L^2 on centres, mu on rotations.
-  LocalHessianOptions iso;
+  LocalHessianOptions iso = PaperTripletLocalHessianOptions();
   iso.prior_shape = PriorShape::kIsotropic;
   iso.prior_relative = 1e-6;
   const LocalHessian li = ComputeLocalHessian(rec, t, 4, iso);
@@ -182,7 +182,7 @@ TEST(LocalHessian, DecompositionAndPriorAreConsistent) {
   // ... but the isotropic prior also weighs the informative directions (a small bias).
   EXPECT_GT((reduce_gauge(li.h) - h0).norm(), 1e-9 * h0.norm());
   // Q = inf: weight 1, h scales up by (M + Q) / Q.
-  LocalHessianOptions no_att;
+  LocalHessianOptions no_att = PaperTripletLocalHessianOptions();
   no_att.attenuation_q = std::numeric_limits<double>::infinity();
   const LocalHessian full = ComputeLocalHessian(rec, t, 4, no_att);
   ASSERT_EQ(full.status, LocalHessianStatus::kOk);
@@ -190,7 +190,7 @@ TEST(LocalHessian, DecompositionAndPriorAreConsistent) {
   EXPECT_NEAR(full.h(3, 3) / lh.h(3, 3), (lh.num_points + 10.0) / 10.0, 1e-3 * (lh.num_points + 10.0) / 10.0);
   // One local BA iteration from the true poses on noisy data leaves a small reduced gradient
   // (a converged x0); more iterations shrink it further.
-  LocalHessianOptions many;
+  LocalHessianOptions many = PaperTripletLocalHessianOptions();
   many.solver.max_iterations = 10;
   const LocalHessian conv = ComputeLocalHessian(rec, t, 4, many);
   EXPECT_LT(conv.reduced_gradient.norm(), lh.reduced_gradient.norm() + 1e-12);
@@ -215,7 +215,7 @@ TEST(LocalHessian, RejectsWithCountedReasons) {
   LocalMotion dup = triplets[0];
   dup.image_ids[1] = dup.image_ids[0];
   triplets.push_back(dup);
-  LocalHessianOptions opt;
+  LocalHessianOptions opt = PaperTripletLocalHessianOptions();
   const LocalHessianResult r = ComputeLocalHessians(rec, triplets, opt);
   ASSERT_EQ(r.hessians.size(), triplets.size());
   EXPECT_EQ(r.hessians[0].status, LocalHessianStatus::kOk);
@@ -245,7 +245,7 @@ TEST(LocalHessian, RejectsRankDeficientGeometry) {
     track.erase(std::remove_if(track.begin(), track.end(), [](const TrackElement& el) { return el.image_id == 3; }),
                 track.end());
   }
-  const LocalHessian lh = ComputeLocalHessian(rec, t, 0, LocalHessianOptions());
+  const LocalHessian lh = ComputeLocalHessian(rec, t, 0, PaperTripletLocalHessianOptions());
   EXPECT_EQ(lh.status, LocalHessianStatus::kIllConditioned) << LocalHessianStatusName(lh.status);
   EXPECT_LT(lh.eigenvalue_ratio, 1e-10);
 }
@@ -256,7 +256,7 @@ TEST(LocalHessian, ParallelResultIsDeterministic) {
   const Reconstruction rec = MakeRingScene(so);
   std::mt19937_64 rng(8);
   const std::vector<LocalMotion> triplets = testing::MakeRingTriplets(rec, 4, true, rng);
-  LocalHessianOptions opt;
+  LocalHessianOptions opt = PaperTripletLocalHessianOptions();
   const LocalHessianResult par = ComputeLocalHessians(rec, triplets, opt);
   opt.num_threads = 1;
   const LocalHessianResult seq = ComputeLocalHessians(rec, triplets, opt);
@@ -278,7 +278,7 @@ TEST(LocalHessian, NewtonStepPointsToTheTripletOptimum) {
   const Reconstruction rec = MakeRingScene(so);
   std::mt19937_64 rng(22);
   LocalMotion t = MakeTriplet(rec, {2, 3, 5}, rng);
-  LocalHessianOptions converge;
+  LocalHessianOptions converge = PaperTripletLocalHessianOptions();
   converge.solver.max_iterations = 50;
   const LocalHessian opt = ComputeLocalHessian(rec, t, 0, converge);
   ASSERT_EQ(opt.status, LocalHessianStatus::kOk);
@@ -295,7 +295,7 @@ TEST(LocalHessian, NewtonStepPointsToTheTripletOptimum) {
     moved.local_poses[k] = Pose::FromRC(opt.local_poses[k].R() * ExpSO3(3.5e-4 * w.normalized()),
                                         opt.local_poses[k].C() + 0.01 * baseline * d.normalized());
   }
-  LocalHessianOptions at_point;
+  LocalHessianOptions at_point = PaperTripletLocalHessianOptions();
   at_point.solver.max_iterations = 0;
   const LocalHessian lin = ComputeLocalHessian(rec, moved, 0, at_point);
   ASSERT_EQ(lin.status, LocalHessianStatus::kOk);
@@ -340,9 +340,9 @@ TEST(LocalHessian, SharedObservationWeightingCountsTheTripletsOfEachObservation)
     }
     ASSERT_EQ(count, expected);
   }
-  LocalHessianOptions shared;
+  LocalHessianOptions shared = PaperTripletLocalHessianOptions();
   shared.shared_observation_weighting = true;
-  const LocalHessianResult plain = ComputeLocalHessians(rec, triplets, LocalHessianOptions());
+  const LocalHessianResult plain = ComputeLocalHessians(rec, triplets, PaperTripletLocalHessianOptions());
   const LocalHessianResult weighted = ComputeLocalHessians(rec, triplets, shared);
   const LocalHessianResult given = ComputeLocalHessians(rec, triplets, shared, &shares);
   EXPECT_GE(weighted.num_ok(), static_cast<int>(triplets.size()) / 2);
@@ -364,7 +364,7 @@ TEST(LocalHessian, OptionsRoundTripThroughJson) {
   const LocalHessianOptions back = j.get<LocalHessianOptions>();
   EXPECT_EQ(back.attenuation_q, 25);
   EXPECT_EQ(back.prior_placement, PriorPlacement::kLocalBAAndHessian);
-  EXPECT_EQ(nlohmann::json::parse(R"({"huber_px": 2})").get<LocalHessianOptions>().solver.max_iterations, 1);
+  EXPECT_EQ(nlohmann::json::parse(R"({"huber_px": 2})").get<LocalHessianOptions>().solver.max_iterations, 0);
 }
 
 }  // namespace

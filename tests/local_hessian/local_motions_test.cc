@@ -139,7 +139,7 @@ TEST(LocalMotions, ConvergeToTheTruthAndSeeAllButTheSimilarity) {
   std::vector<LocalMotion> motions = SelectLocalMotions(rec, start, o);
   ASSERT_GE(motions.size(), 3u);
   motions.resize(3);
-  LocalHessianOptions lh;
+  LocalHessianOptions lh = PaperTripletLocalHessianOptions();
   ConvergeLocalMotions(rec, lh, o, &motions);
   for (const LocalMotion& m : motions) {
     // Relative rotations and the shape of the centres (scale-free) against the truth.
@@ -176,7 +176,7 @@ TEST(LocalMotions, HessianEqualsInverseOfCameraBlockOfDenseCovariance) {
   o.views = 5;
   std::vector<LocalMotion> motions = SelectLocalMotions(rec, PosesOf(rec), o);
   ASSERT_FALSE(motions.empty());
-  LocalHessianOptions opt;
+  LocalHessianOptions opt = PaperTripletLocalHessianOptions();
   opt.solver.max_iterations = 10;
   LocalBundleProblem p;
   ASSERT_EQ(BuildLocalBundleProblem(rec, motions[0], opt, &p), LocalHessianStatus::kOk);

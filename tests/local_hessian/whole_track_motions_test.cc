@@ -108,7 +108,7 @@ LocalMotion WholeBlock(const Reconstruction& rec, const std::map<uint32_t, Pose>
 TEST(WholeTrackMotions, SumOfLocalHessiansIsThePointBasedReducedCameraSystem) {
   const Reconstruction rec = Ring(16, 60.0, 5);
   const std::map<uint32_t, Pose> poses = PosesOf(rec);
-  const LocalHessianOptions lh = WholeTrackLocalHessianOptions();
+  const LocalHessianOptions lh = LocalHessianOptions();
   const std::vector<LocalMotion> motions = MotionsOfSix(rec, poses);
   ASSERT_GT(motions.size(), 2u);
   const LocalMotion all = WholeBlock(rec, poses);
@@ -140,7 +140,7 @@ TEST(WholeTrackMotions, SumOfLocalHessiansWithIntrinsicsIsThePointBasedReducedCa
   const RingSceneOptions ro = LensRingOptions();
   const Reconstruction rec = MakeRingScene(ro);
   const std::map<uint32_t, Pose> poses = PosesOf(rec);
-  const LocalHessianOptions lh = WholeTrackLocalHessianOptions();
+  const LocalHessianOptions lh = LocalHessianOptions();
   const FreeIntrinsics free = SelectFreeIntrinsics(rec.cameras, IntrinsicsOptions());
   ASSERT_EQ(free.at(1), (std::vector<int>{0, 3}));  // SIMPLE_RADIAL: f and k
   const std::vector<LocalMotion> motions = MotionsOfSix(rec, poses);
@@ -195,7 +195,7 @@ TEST(WholeTrackMotions, SumOfReducedGradientsWithIntrinsicsAwayFromTheOptimum) {
     const Eigen::Vector3d c(noise(rng), noise(rng), noise(rng));
     pose = Pose::FromRC(pose.R() * Eigen::AngleAxisd(2e-3, w.normalized()).toRotationMatrix(), pose.C() + 0.01 * c);
   }
-  const LocalHessianOptions lh = WholeTrackLocalHessianOptions();
+  const LocalHessianOptions lh = LocalHessianOptions();
   const FreeIntrinsics free = SelectFreeIntrinsics(rec.cameras, IntrinsicsOptions());
   const std::vector<LocalMotion> motions = MotionsOfSix(rec, poses);
   ASSERT_GT(motions.size(), 2u);

@@ -32,6 +32,47 @@ TEST(RunOptions, EveryPresetLoads) {
   EXPECT_EQ(longfocal.reconstruction.refinement.local_motions.kind, MotionKind::kWholeTracks);
 }
 
+// What `pgba run` and `reconstruct` run without a config is every options struct's own
+// default: no stage struct is overridden on the way (each section compared as the JSON of its
+// fields), and an empty config file gives the same.
+template <class T>
+nlohmann::json Fields(const T& options) {
+  return nlohmann::json(options);
+}
+void ExpectStructDefaults(const RunOptions& o) {
+  const PointlessMapperOptions& r = o.reconstruction;
+  EXPECT_EQ(Fields(o.features), Fields(FeatureExtractionOptions{}));
+  EXPECT_EQ(Fields(o.matching), Fields(MatchingOptions{}));
+  EXPECT_EQ(Fields(r.mapper.pairs), Fields(PairOptions{}));
+  EXPECT_EQ(Fields(r.mapper.calibration), Fields(ViewGraphCalibrationOptions{}));
+  EXPECT_EQ(Fields(r.mapper.triplets), Fields(TripletOptions{}));
+  EXPECT_EQ(Fields(r.mapper.global_init), Fields(GlobalInitOptions{}));
+  EXPECT_EQ(Fields(r.refinement.local_motions), Fields(LocalMotionOptions{}));
+  EXPECT_EQ(Fields(r.refinement.local_hessian), Fields(LocalHessianOptions{}));
+  EXPECT_EQ(Fields(r.refinement.global_ba), Fields(GlobalBAOptions{}));
+  EXPECT_EQ(Fields(r.refinement.point_based), Fields(PointBasedOptions{}));
+  EXPECT_EQ(Fields(r.refinement.intrinsics), Fields(IntrinsicsOptions{}));
+  EXPECT_EQ(Fields(r.gcp), Fields(GcpOptions{}));
+  EXPECT_EQ(Fields(r.convergence), Fields(ConvergenceOptions{}));
+  EXPECT_EQ(Fields(r.verification), Fields(ImageVerificationOptions{}));
+}
+
+TEST(RunOptions, WithoutAConfigTheStructDefaultsRun) {
+  ExpectStructDefaults(LoadRunOptions(""));
+  const fs::path path = fs::temp_directory_path() / "pgba_run_options_empty.json";
+  std::ofstream(path) << "{}";
+  ExpectStructDefaults(LoadRunOptions(path.string()));
+  fs::remove(path);
+  // The default method is whole-track motions with the checked re-linearisation, as the
+  // structs say, and the paper's preset states the triplet method completely.
+  const RunOptions paper = LoadRunOptions((fs::path(PGBA_SOURCE_DIR) / "configs" / "paper_triplets.json").string());
+  EXPECT_EQ(paper.reconstruction.refinement.local_motions.kind, MotionKind::kTriplets);
+  EXPECT_EQ(Fields(paper.reconstruction.refinement.local_hessian), Fields(PaperTripletLocalHessianOptions()));
+  EXPECT_EQ(Fields(paper.reconstruction.refinement.global_ba), Fields(PaperTripletGlobalBAOptions()));
+  EXPECT_NE(Fields(LocalHessianOptions{}), Fields(PaperTripletLocalHessianOptions()));
+  EXPECT_NE(Fields(GlobalBAOptions{}), Fields(PaperTripletGlobalBAOptions()));
+}
+
 TEST(RunOptions, UnknownKeyNamesTheFile) {
   const fs::path path = fs::temp_directory_path() / "pgba_run_options_bad.json";
   std::ofstream(path) << R"({"global_ba": {"max_rounds": 3, "huber_facter": 2}})";

@@ -107,6 +107,12 @@ Table BuildTable() {
   t["pairs.seed"] = Unbounded();
   // convergence (mapper/convergence_curve.h)
   t["convergence.max_tracks"] = kNonNegative;  // 0 = every track
+  // verification (mapper/image_verification.h)
+  t["verification.inlier_px"] = kPositive;
+  t["verification.min_triangulation_angle_deg"] = Closed(0, 90);
+  t["verification.min_checked_observations"] = AtLeast(3);
+  t["verification.min_inlier_ratio"] = kFraction;
+  t["verification.max_pair_rotation_deg"] = kPositive;
   // calibration (calibration/view_graph_calibration.h, fundamental_matrix.h)
   t["calibration.fundamental.threshold_px"] = kPositive;
   t["calibration.fundamental.confidence"] = kProbability;
@@ -205,15 +211,10 @@ Table BuildTable() {
   t["global_ba.scalar_position_sigma"] = kPositive;
   t["global_ba.num_threads"] = kNonNegative;
   t["global_ba.max_relinearizations"] = kNonNegative;
-  t["global_ba.max_relinearizations_self_calibrating"] = kNonNegative;
-  t["global_ba.max_relinearizations_far_start"] = kNonNegative;
   t["global_ba.relinearize_misfit"] = Unbounded();  // <= 0: always
   t["global_ba.relinearize_tolerance"] = kPositive;
   t["global_ba.relinearize_cost_tolerance"] = kNonNegative;
   t["global_ba.relinearized_function_tolerance"] = kNonNegative;
-  t["global_ba.relinearize_damped_steps"] = kNonNegative;
-  t["global_ba.relinearize_damping_radius"] = kPositive;
-  t["global_ba.relinearize_robust_passes_self_calibrating"] = kNonNegative;
   // point_based (mapper/pose_refinement.h)
   AddBundleAdjuster("point_based.bundle", &t);
   t["point_based.filter_max_error_px"] = Unbounded();  // <= 0: a single pass
