@@ -140,6 +140,15 @@ struct GlobalBAOptions {
   // max_relinearizations.
   bool relinearize_checked = true;
   double relinearize_misfit = 0.0;
+  // Graduated outlier threshold of the checked passes: from a start far from the solution
+  // most observations lie beyond the local Hessians' outlier threshold
+  // (LocalHessianOptions::max_reprojection_px, 4 px) and would be dropped from the first
+  // models, leaving cameras that then hold too few to move back. When the median reprojection
+  // error at the start (tracks re-triangulated) times start_outlier_factor exceeds that
+  // threshold, the passes first run to convergence on models taken with this wider threshold,
+  // then the models are re-taken at that solution with the configured threshold and the passes
+  // run again (the true cost is compared within one threshold only). <= 0: off.
+  double start_outlier_factor = 3.0;
   // function_tolerance of a solve whose solution is re-linearised and checked next: the
   // models re-taken there move the cost by more than this, so converging on the old models
   // further buys nothing (the last pass's solve gets no tighter: the cost tolerance of the
@@ -172,6 +181,7 @@ void JsonFields(GlobalBAOptions& o, Visit&& visit) {
   visit("relinearize_checked", o.relinearize_checked);
   visit("relinearize_cost_tolerance", o.relinearize_cost_tolerance);
   visit("relinearized_function_tolerance", o.relinearized_function_tolerance);
+  visit("start_outlier_factor", o.start_outlier_factor);
 }
 PGBA_JSON_FROM_FIELDS(GlobalBAOptions)
 
@@ -232,6 +242,7 @@ struct GlobalBASummary {
     double robust_cost = 0.0;
     bool kept = true;
     double displacement = std::numeric_limits<double>::quiet_NaN();
+    double outlier_px = 0.0;  // the models' outlier threshold (the cost is truncated there)
   };
   std::vector<Pass> passes;
   // Why the passes ended: "cost_tolerance", "step_tolerance", "refused_step",
@@ -239,6 +250,10 @@ struct GlobalBASummary {
   // unchecked passes' trigger did not fire), "no_relinearization" (max_relinearizations 0).
   std::string stop_reason;
   bool converged = true;
+  // The start's median reprojection error (px) and the wider threshold of the first phase
+  // (start_outlier_factor; 0 when the passes ran at the configured threshold only).
+  double start_median_px = 0.0;
+  double start_outlier_px = 0.0;
   // The motion-block solver's trust region radius at the end of the last solve (0 when Ceres
   // ran it): a re-linearised solve starts there (relinearization.cc, SolveAgain).
   double final_trust_region_radius = 0.0;

@@ -15,6 +15,7 @@
 #include "modules/global_ba/motion_similarity.h"
 #include "modules/global_ba/motion_weighting.h"
 #include "modules/global_ba/relinearized_models.h"
+#include "pgba/geometry/triangulation.h"
 #include "pgba/optim/intrinsics.h"
 #include "pgba/optim/pose_parameterization.h"
 #include "pgba/util/error.h"
@@ -153,7 +154,7 @@ GlobalBAResult CheckedRelinearization(const Reconstruction& tracks, const LocalH
   }
   const std::map<uint32_t, GlobalIntrinsics> first = trial.intrinsics;
   double cost = TotalRobustCost(models.hessians(), nullptr, trial);
-  total.passes.push_back({cost, true, std::numeric_limits<double>::quiet_NaN()});
+  total.passes.push_back({cost, true, std::numeric_limits<double>::quiet_NaN(), lh_options.max_reprojection_px});
   if (options.max_relinearizations == 0) {
     kept = trial;
     total.stop_reason = "no_relinearization";
@@ -170,7 +171,7 @@ GlobalBAResult CheckedRelinearization(const Reconstruction& tracks, const LocalH
     const double decrease = unknown ? 1.0 : RelativeDecrease(cost, trial_cost);
     const bool refused = !unknown && !(trial_cost < cost);
     const double displacement = Displacement(trial, models.hessians(), retaken.index, pointless, /*largest=*/true);
-    total.passes.push_back({trial_cost, !refused, displacement});
+    total.passes.push_back({trial_cost, !refused, displacement, lh_options.max_reprojection_px});
     PGBA_LOG_DEBUG << "global BA pass " << total.passes.size() - 1 << ": robust reprojection cost " << cost
                      << " -> " << trial_cost << ", motions moved up to " << displacement << " noise sigmas"
                      << (refused ? " (step refused: the last kept poses stay)" : "");
@@ -270,6 +271,94 @@ GlobalBAResult UncheckedRelinearization(const Reconstruction& tracks, const Loca
   return result;
 }
 
+// The median reprojection error of the motions' tracks at `poses` (each track triangulated
+// from its views there, a sample of at most kMaxTracks tracks spread over the motions),
+// with the cameras of `tracks` updated by the models' intrinsics at their linearisation point.
+double StartMedianResidual(const Reconstruction& tracks, const std::map<uint32_t, Pose>& poses,
+                           const std::vector<LocalMotion>& motions) {
+  constexpr size_t kMaxTracks = 20000;
+  std::vector<uint64_t> ids;
+  for (const LocalMotion& m : motions) ids.insert(ids.end(), m.track_ids.begin(), m.track_ids.end());
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  const size_t stride = std::max<size_t>(1, ids.size() / kMaxTracks);
+  TriangulationOptions wide;
+  wide.outlier_px = 1e3;
+  std::vector<double> residuals;
+  for (size_t k = 0; k < ids.size(); k += stride) {
+    const auto point = tracks.points3D.find(ids[k]);
+    if (point == tracks.points3D.end()) continue;
+    std::vector<TrackView> views;
+    for (const TrackElement& el : point->second.track) {
+      const auto pose = poses.find(el.image_id);
+      if (pose == poses.end()) continue;
+      const Image& image = tracks.images.at(el.image_id);
+      views.push_back({pose->second, &tracks.cameras.at(image.camera_id), image.points2D[el.point2D_idx].xy});
+    }
+    if (views.size() < 2) continue;
+    const TriangulatedPoint X = TriangulateTrack(views, wide);
+    if (X.ok) residuals.insert(residuals.end(), X.residuals_px.begin(), X.residuals_px.end());
+  }
+  return residuals.empty() ? 0.0 : UpperMedian(residuals);
+}
+
+// GlobalBAOptions::start_outlier_factor: the checked passes first on models with a wider
+// outlier threshold, then on models with the configured one re-taken where those ended.
+GlobalBAResult GraduatedRelinearization(const Reconstruction& tracks, const LocalHessianOptions& lh_options,
+                                        const std::map<uint32_t, Pose>& initial_poses,
+                                        const std::vector<LocalMotion>& motions,
+                                        const std::vector<LocalHessian>& hessians, const GlobalBAOptions& options,
+                                        const GlobalBAIterationCallback& callback, const GcpInput* gcps) {
+  if (options.start_outlier_factor <= 0 || options.max_relinearizations == 0)
+    return CheckedRelinearization(tracks, lh_options, initial_poses, motions, hessians, options, callback, gcps);
+  Timer timer;
+  const FreeIntrinsics free = FreeIntrinsicsOf(hessians);
+  const double median = StartMedianResidual(tracks, initial_poses, motions);
+  const double wide_px = options.start_outlier_factor * median;
+  if (!(wide_px > lh_options.max_reprojection_px)) {
+    GlobalBAResult r = CheckedRelinearization(tracks, lh_options, initial_poses, motions, hessians, options, callback, gcps);
+    r.summary.start_median_px = median;
+    return r;
+  }
+  PGBA_LOG_INFO << "global BA: the start is far from the solution (median reprojection error " << median
+                << " px): first converged with observations up to " << wide_px << " px, then up to "
+                << lh_options.max_reprojection_px << " px";
+  LocalHessianOptions wide = lh_options;
+  wide.max_reprojection_px = wide_px;
+  wide.solver.max_iterations = 0;
+  const ObservationShares shares = SharesOf(tracks, motions, wide);
+  const LocalHessianResult first =
+      ComputeLocalHessians(tracks, motions, wide, &shares, free.empty() ? nullptr : &free);
+  const double first_seconds = timer.Seconds();
+  const GlobalBAResult r =
+      CheckedRelinearization(tracks, wide, initial_poses, motions, first.hessians, options, callback, gcps);
+  // The configured models where the wide passes ended (the others as given).
+  Timer retake;
+  LocalHessianOptions at_solution = lh_options;
+  at_solution.solver.max_iterations = 0;
+  Models models(motions, hessians);
+  models.Adopt(RelinearizeAt(tracks, at_solution, &shares, motions, Models(motions, first.hessians), r));
+  const double retake_seconds = retake.Seconds();
+  GlobalBAResult out = CheckedRelinearization(tracks, lh_options, r.poses, models.frames(), models.hessians(), options,
+                                              Shifted(callback, r.summary.iterations), gcps);
+  GlobalBASummary& s = out.summary;
+  s.iterations += r.summary.iterations;
+  s.rounds += r.summary.rounds;
+  s.relinearizations += r.summary.relinearizations + 1;
+  s.relinearization_seconds += r.summary.relinearization_seconds + first_seconds + retake_seconds;
+  s.cost_per_iteration.insert(s.cost_per_iteration.begin(), r.summary.cost_per_iteration.begin(),
+                              r.summary.cost_per_iteration.end());
+  s.passes.insert(s.passes.begin(), r.summary.passes.begin(), r.summary.passes.end());
+  s.initial_cost = r.summary.initial_cost;
+  s.converged = s.converged && r.summary.converged;
+  if (!r.summary.converged) s.stop_reason = "wide_threshold_" + r.summary.stop_reason;
+  s.start_median_px = median;
+  s.start_outlier_px = wide_px;
+  s.seconds = timer.Seconds();
+  for (auto& [id, k] : out.intrinsics) k.initial = r.intrinsics.at(id).initial;  // before every pass
+  return out;
+}
+
 }  // namespace
 
 GlobalBAResult RelinearizedGlobalBA(const Reconstruction& tracks, const LocalHessianOptions& lh_options,
@@ -279,7 +368,7 @@ GlobalBAResult RelinearizedGlobalBA(const Reconstruction& tracks, const LocalHes
                                     const GcpInput* gcps) {
   GlobalBAResult r =
       options.relinearize_checked
-          ? CheckedRelinearization(tracks, lh_options, initial_poses, motions, hessians, options, callback, gcps)
+          ? GraduatedRelinearization(tracks, lh_options, initial_poses, motions, hessians, options, callback, gcps)
           : UncheckedRelinearization(tracks, lh_options, initial_poses, motions, hessians, options, callback, gcps);
   if (r.summary.stop_reason == "max_relinearizations")
     PGBA_LOG_WARN << "global BA: not converged after " << r.summary.relinearizations

@@ -190,8 +190,11 @@ RefinementResult RefinePointless(const Reconstruction& tracks, const std::map<ui
   for (const GlobalBASummary::Pass& p : summary.passes)
     passes.push_back({{"robust_cost", NumberOrNull(p.robust_cost)},
                       {"kept", p.kept},
-                      {"displacement_sigmas", NumberOrNull(p.displacement)}});
+                      {"displacement_sigmas", NumberOrNull(p.displacement)},
+                      {"outlier_px", p.outlier_px}});
   r.details["passes"] = std::move(passes);
+  r.details["start_median_px"] = summary.start_median_px;
+  r.details["start_outlier_px"] = summary.start_outlier_px;
   r.details["relinearization_seconds"] = summary.relinearization_seconds;
   r.details["triplet_rotation_misfit"] = hessians.triplet_rotation_misfit;
   r.details["triplet_start"] = hessians.triplet_start();

@@ -135,11 +135,13 @@ TEST(Relinearization, ForcedOnConsistentModelsKeepsTheSolution) {
   EXPECT_LT(e_relin.rot_deg_median, 1.3 * e_fixed.rot_deg_median);
 }
 
-// The default re-linearised pointless BA from a start far from the solution (0.5 deg off):
-// Gauss-Newton passes until the true robust cost stops falling, reported per pass, end at the
-// point-based BA's optimum (whole-track motions: the sum of their local Hessians is the
-// point-based reduced camera system). A cap below what convergence needs is reported as not
-// converged; a step the true cost refuses gives the initial poses back.
+// The default re-linearised pointless BA from a start far from the solution (0.5 deg off, a
+// median reprojection error of ~5 px): Gauss-Newton passes, first on models with a wider
+// outlier threshold, then at the configured 4 px, each until the true robust cost stops
+// falling, reported per pass, end at the point-based BA's optimum (whole-track motions: the
+// sum of their local Hessians is the point-based reduced camera system). A cap below what
+// convergence needs is reported as not converged; a step the true cost refuses gives the
+// initial poses back.
 TEST(Relinearization, CheckedPassesStopByTheirTolerancesAtThePointBasedOptimum) {
   RingSceneOptions ro;
   ro.num_images = 18;
@@ -159,19 +161,33 @@ TEST(Relinearization, CheckedPassesStopByTheirTolerancesAtThePointBasedOptimum) 
   const std::map<uint32_t, Pose> point_based = PointBasedBA(rec, initial);
   const PoseErrors to_point_based = GroundTruthErrors(r.poses, point_based);
   const PoseErrors truth_point_based = GroundTruthErrors(point_based, PosesOf(rec));
-  std::printf("%d passes (%s), to the point-based optimum: rot max %.2e deg; point-based to the truth %.2e deg\n",
-              s.relinearizations, s.stop_reason.c_str(), to_point_based.rot_deg_max, truth_point_based.rot_deg_max);
+  std::printf("%d passes (%s), start median %.2f px, to the point-based optimum: rot max %.2e deg; point-based to "
+              "the truth %.2e deg\n",
+              s.relinearizations, s.stop_reason.c_str(), s.start_median_px, to_point_based.rot_deg_max,
+              truth_point_based.rot_deg_max);
   EXPECT_TRUE(s.converged);
   EXPECT_TRUE(s.stop_reason == "cost_tolerance" || s.stop_reason == "step_tolerance") << s.stop_reason;
-  EXPECT_GE(s.relinearizations, 2);
-  ASSERT_EQ(s.passes.size(), static_cast<size_t>(s.relinearizations) + 1);
+  EXPECT_GT(s.start_median_px * defaults.start_outlier_factor, lh.max_reprojection_px);
+  EXPECT_EQ(s.start_outlier_px, s.start_median_px * defaults.start_outlier_factor);
+  ASSERT_GE(s.passes.size(), 4u);
+  EXPECT_EQ(s.passes.front().outlier_px, s.start_outlier_px);
+  EXPECT_EQ(s.passes.back().outlier_px, lh.max_reprojection_px);
   for (size_t k = 1; k < s.passes.size(); ++k) {
+    if (s.passes[k].outlier_px != s.passes[k - 1].outlier_px) continue;  // a new threshold, a new cost
     EXPECT_TRUE(s.passes[k].kept);
     EXPECT_LT(s.passes[k].robust_cost, s.passes[k - 1].robust_cost);
   }
   EXPECT_LT(to_point_based.rot_deg_max, 0.02 * truth_point_based.rot_deg_max);
 
-  GlobalBAOptions capped = defaults;
+  // The stopping rule alone, at the configured threshold throughout.
+  GlobalBAOptions one_threshold = defaults;
+  one_threshold.start_outlier_factor = 0.0;
+  const GlobalBAResult o = RelinearizedGlobalBA(rec, lh, initial, motions, hessians.hessians, one_threshold);
+  EXPECT_TRUE(o.summary.converged);
+  EXPECT_EQ(o.summary.passes.size(), static_cast<size_t>(o.summary.relinearizations) + 1);
+  EXPECT_GE(o.summary.relinearizations, 2);
+
+  GlobalBAOptions capped = one_threshold;
   capped.max_relinearizations = 1;
   const GlobalBAResult c = RelinearizedGlobalBA(rec, lh, initial, motions, hessians.hessians, capped);
   EXPECT_FALSE(c.summary.converged);
@@ -181,7 +197,7 @@ TEST(Relinearization, CheckedPassesStopByTheirTolerancesAtThePointBasedOptimum) 
 
   std::vector<LocalHessian> unbeatable = hessians.hessians;
   for (LocalHessian& h : unbeatable) h.robust_cost = 0.0;
-  const GlobalBAResult u = RelinearizedGlobalBA(rec, lh, initial, motions, unbeatable, defaults);
+  const GlobalBAResult u = RelinearizedGlobalBA(rec, lh, initial, motions, unbeatable, one_threshold);
   EXPECT_EQ(u.summary.stop_reason, "refused_step");
   EXPECT_FALSE(u.summary.converged);
   EXPECT_EQ(u.summary.relinearizations, 0);

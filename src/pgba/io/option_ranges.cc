@@ -215,6 +215,7 @@ Table BuildTable() {
   t["global_ba.relinearize_tolerance"] = kPositive;
   t["global_ba.relinearize_cost_tolerance"] = kNonNegative;
   t["global_ba.relinearized_function_tolerance"] = kNonNegative;
+  t["global_ba.start_outlier_factor"] = Unbounded();  // <= 0: off
   // point_based (mapper/pose_refinement.h)
   AddBundleAdjuster("point_based.bundle", &t);
   t["point_based.filter_max_error_px"] = Unbounded();  // <= 0: a single pass
