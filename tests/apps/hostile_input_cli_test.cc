@@ -516,6 +516,11 @@ TEST_F(HostileInputCli, ConvertersValidateWhatTheyWrite) {
                      list.string() + ":3", "image im0.jpg listed twice");
   EXPECT_FALSE(fs::exists(dir_ / "tanks_out"));
   EXPECT_EQ(Run(tanks + " --out " + (dir_ / "tanks_out").string()).code, 0);
+  // A symbolic link loop among the photos: one line naming it, not a raw filesystem error.
+  fs::create_symlink(images / "loop_b.jpg", images / "loop_a.jpg");
+  fs::create_symlink(images / "loop_a.jpg", images / "loop_b.jpg");
+  ExpectOneLineError(Run(tanks + " --out " + (dir_ / "tanks_loop_out").string()), (images / "loop_").string(),
+                     "cannot access");
 }
 
 // Caches keyed on content: a photo replaced by another of the same size with the same
