@@ -57,6 +57,13 @@ void RegisterBenchmark(CLI::App& app) {
 
   AddCommand(app, sub, [args] {
     namespace fs = std::filesystem;
+    CheckOutputDir(args->out, kBenchmarkOutputs,
+                   {{"--tracks", args->tracks}, {"--gt", args->gt}, {"--loop", args->loop}, {"--config", args->config}});
+    // First: a re-run refused at its options or inputs must not leave the earlier result.
+    {
+      std::error_code ec;
+      fs::remove(fs::path(args->out) / "benchmark.json", ec);
+    }
     const PointlessMapperOptions ro = LoadRunOptions(args->config).reconstruction;
     BenchmarkOptions options;
     options.mapper = ro.mapper;
@@ -68,13 +75,13 @@ void RegisterBenchmark(CLI::App& app) {
       for (int k = 0; k <= 11; ++k) options.outlier_sweep.push_back(0.02 * k);
 
     const Reconstruction tracks = ReadColmapText(args->tracks);
+    RequireEnoughImages(tracks, (fs::path(args->tracks) / "images.txt").string());
     Reconstruction gt;
     if (!args->gt.empty()) gt = ReadColmapText(args->gt, /*points_optional=*/true);
     std::vector<LoopCorrespondence> loops;
     if (!args->loop.empty()) loops = ReadLoopPairs(args->loop);
 
     PrepareOutputDir(args->out);
-    fs::remove(fs::path(args->out) / "benchmark.json");  // a failed run must not leave an earlier result
     Report report;
     GlobalMapperResult init = RunGlobalMapper(tracks, options.mapper, &report);
     if (args->perturb_deg > 0) init.init.poses = PerturbedStart(init.init.poses, args->perturb_deg, args->perturb_seed);

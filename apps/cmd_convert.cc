@@ -7,16 +7,32 @@
 // (links to the photos, or copies with --copy), OUT/cameras.txt, OUT/camera_map.txt (several
 // cameras only) and OUT/gt/ (ground-truth poses, COLMAP text). datasets/README.md has the
 // downloads and the full recipes.
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <string>
 
 #include "apps/commands.h"
+#include "pgba/io/dataset_layout.h"
 #include "pgba/io/eth3d.h"
 #include "pgba/io/eth3d_slam.h"
 #include "pgba/io/tanks_and_temples.h"
+#include "pgba/util/output_path.h"
 
 namespace pgba::app {
+
+namespace {
+// The output dataset folder apart from every input (before anything is read or written):
+// converting into the dataset's own folder replaced each photo by a link to itself.
+void CheckConvertOutput(const std::string& out, const std::vector<NamedInput>& inputs) {
+  RequireOutputPath(out, "--out");
+  CheckOutputDirApartFromInputs(out, kDatasetLayoutEntries, inputs);
+}
+
+std::string Under(const std::string& root, const std::string& p) {
+  return std::filesystem::path(p).is_absolute() ? p : (std::filesystem::path(root) / p).string();
+}
+}  // namespace
 
 void RegisterConvert(CLI::App& app) {
   CLI::App* convert = app.add_subcommand("convert", "Public datasets (ETH3D, ETH3D SLAM, Tanks and Temples) -> images/ cameras.txt gt/");
@@ -36,6 +52,9 @@ void RegisterConvert(CLI::App& app) {
       ->capture_default_str();
   e->add_flag("--copy", eth->options.layout.copy_images, "Copy the photos instead of linking them");
   AddCommand(app, e, [eth] {
+    CheckConvertOutput(eth->out, {{"--scene", eth->scene},
+                                  {"--calibration", Under(eth->scene, eth->options.calibration_dir)},
+                                  {"--images-root", Under(eth->scene, eth->options.images_root)}});
     const size_t n = ConvertEth3dScene(eth->scene, eth->out, eth->options);
     std::cout << "pgba convert eth3d: " << n << " images -> " << eth->out << "/{images/, cameras.txt, gt/}\n";
     return 0;
@@ -55,6 +74,7 @@ void RegisterConvert(CLI::App& app) {
       ->capture_default_str();
   l->add_flag("--copy", slam->options.layout.copy_images, "Copy the photos instead of linking them");
   AddCommand(app, l, [slam] {
+    CheckConvertOutput(slam->out, {{"--sequence", slam->sequence}});
     const size_t n = ConvertEth3dSlamSequence(slam->sequence, slam->out, slam->options);
     std::cout << "pgba convert eth3d-slam: " << n << " images -> " << slam->out << "/{images/, cameras.txt, gt/}\n";
     return 0;
@@ -77,6 +97,10 @@ void RegisterConvert(CLI::App& app) {
   t->add_option("--out", tt->out, "Output dataset folder")->required();
   t->add_flag("--copy", tt->layout.copy_images, "Copy the photos instead of linking them");
   AddCommand(app, t, [tt] {
+    CheckConvertOutput(tt->out, {{"--log", tt->input.log_path},
+                                 {"--images", tt->input.images_dir},
+                                 {"--cameras", tt->input.cameras_path},
+                                 {"--image-list", tt->input.image_list}});
     const size_t n = ConvertTanksAndTemples(tt->input, tt->out, tt->layout);
     std::cout << "pgba convert tanks: " << n << " images -> " << tt->out << "/{images/, cameras.txt, gt/}\n";
     return 0;

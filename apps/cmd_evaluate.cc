@@ -14,6 +14,7 @@
 #include "pgba/util/atomic_file.h"
 #include "pgba/util/error.h"
 #include "pgba/util/logging.h"
+#include "pgba/util/output_path.h"
 
 namespace pgba::app {
 
@@ -34,10 +35,13 @@ void RegisterEvaluate(CLI::App& app) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
 
-  AddCommand(app, sub, [args] {
+  AddCommand(app, sub, [args, sub] {
+    if (sub->count("--json")) RequireOutputPath(args->json, "--json");
     EvaluationOptions options;
     options.sigma.inlier_px = args->inlier_px;
     if (!args->json.empty()) {
+      CheckOutputFileApartFromInputs(
+          args->json, {{"MODEL", args->model}, {"--obs", args->obs}, {"--gt", args->gt}, {"--loop", args->loop}});
       CheckOutputFile(args->json);  // a bad --json found now, not after the evaluation
       // An earlier result there must not outlive a failed evaluation and read as this one's.
       std::error_code ec;

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "apps/commands.h"
+#include "apps/output_dir.h"
 #include "apps/report_merge.h"
 #include "features/extract_features.h"
 #include "pgba/io/report.h"
@@ -37,6 +38,12 @@ void RegisterFeatures(CLI::App& app) {
       ->capture_default_str();
   sub->add_flag("!--no-cache", args->options.use_cache, "recompute even where cached features exist");
   AddCommand(app, sub, [args] {
+    CheckOutputDir(args->out, kFeaturesOutputs,
+                   {{"--images", args->images},
+                    {"--calib", args->calib.cameras_path},
+                    {"--camera-map", args->calib.camera_map_path}});
+    // The index is rewritten only by a successful run; the per-image cache files stay (keyed).
+    ForgetStage(args->out, "features", {"features/images.json"});
     const CpuTimer cpu;
     const FeatureExtractionResult r = ExtractFeatures(args->images, args->calib, args->out, args->options);
     nlohmann::json record = FeatureExtractionRecord(r);

@@ -40,18 +40,24 @@ void RegisterInit(CLI::App& app) {
       ->check(CLI::Range(0.0, 1.0));
 
   AddCommand(app, sub, [args] {
+    if (args->tracks.empty() == args->database.empty())
+      ThrowInputError("--tracks", 0, "give one of --tracks MODEL_DIR or --database DB.db");
+    CheckOutputDir(args->out, kInitOutputs,
+                   {{"--tracks", args->tracks}, {"--database", args->database}, {"--config", args->config}});
+    // First: a re-run refused at its options or inputs must not leave the earlier result.
+    RemovePreviousResults(args->out);
     // The one loader of every command: a configs/ preset with sections of other stages
     // (matching, local_hessian, ...) serves init too; only the mapper's sections are used.
     GlobalMapperOptions options = LoadRunOptions(args->config).reconstruction.mapper;
     if (args->rotation_outliers > 0) options.rotation_outliers.fraction = args->rotation_outliers;
-    if (args->tracks.empty() == args->database.empty())
-      ThrowInputError("--tracks", 0, "give one of --tracks MODEL_DIR or --database DB.db");
     const Reconstruction tracks = args->database.empty()
                                       ? ReadColmapText(args->tracks)
                                       : TracksFromColmapDatabase(ReadColmapDatabase(args->database),
                                                                  TrackBuilderOptions{}, nullptr, args->database);
+    RequireEnoughImages(tracks, args->database.empty()
+                                    ? (std::filesystem::path(args->tracks) / "images.txt").string()
+                                    : args->database);
     PrepareOutputDir(args->out);
-    RemovePreviousResults(args->out);
     Report report;
     report["command"] = "init";
     if (args->database.empty())

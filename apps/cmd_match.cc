@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "apps/commands.h"
+#include "apps/output_dir.h"
 #include "apps/report_merge.h"
 #include "matching/match_images.h"
 #include "pgba/io/colmap_database.h"
@@ -46,6 +47,8 @@ void RegisterMatch(CLI::App& app) {
   sub->add_option("--database", args->database,
                   "import tracks from a COLMAP database.db instead (its verified two_view_geometries)");
   AddCommand(app, sub, [args] {
+    CheckOutputDir(args->out, kMatchOutputs, {{"--database", args->database}});
+    ForgetStage(args->out, "match", {"tracks", "matching"});
     const fs::path ws(args->out);
     const std::string report = (ws / "report.json").string();
     if (!args->database.empty()) {

@@ -40,15 +40,22 @@ void RegisterReconstruct(CLI::App& app) {
 
   AddCommand(app, sub, [args] {
     namespace fs = std::filesystem;
+    CheckOutputDir(args->out, kReconstructOutputs,
+                   {{"--tracks", args->tracks},
+                    {"--config", args->config},
+                    {"--gcp", args->gcp},
+                    {"--workspace", args->workspace}});
+    // First: a re-run refused at its options or inputs must not leave the earlier result.
+    RemovePreviousResults(args->out);
     PointlessMapperOptions options = LoadRunOptions(args->config).reconstruction;
     options.gcp_path = args->gcp;
     if (!args->gcp.empty()) ReadGcpFile(args->gcp);  // a malformed file fails before any work
     const Reconstruction tracks = ReadColmapText(args->tracks);
+    RequireEnoughImages(tracks, (fs::path(args->tracks) / "images.txt").string());
     if (!args->workspace.empty())
       CheckWorkspaceFingerprint(args->workspace,
                                 FingerprintOf(tracks, options, fs::exists(WorkspaceLocalHessiansPath(args->workspace))));
     PrepareOutputDir(args->out);
-    RemovePreviousResults(args->out);
     Report report;
     report["command"] = "reconstruct";
     report["tracks"] = args->tracks;
@@ -66,9 +73,7 @@ void RegisterReconstruct(CLI::App& app) {
       PGBA_LOG_INFO << "wrote " << args->out << "/{sparse/, points.ply, report.json}: " << result.refined.poses.size()
                     << " / " << tracks.images.size() << " images, " << result.model.points3D.size() << " points";
     } catch (const std::exception& e) {
-      report["status"] = "failed";
-      report["error"] = e.what();
-      report.Write(report_path);
+      RecordFailure(args->out, e, &report);
       throw;
     }
     return 0;

@@ -44,55 +44,63 @@ void RegisterRun(CLI::App& app) {
 
   AddCommand(app, sub, [args] {
     namespace fs = std::filesystem;
+    CheckOutputDir(args->out, kRunOutputs,
+                   {{"--images", args->images},
+                    {"--calib", args->calib.cameras_path},
+                    {"--camera-map", args->calib.camera_map_path},
+                    {"--config", args->config},
+                    {"--gt", args->gt},
+                    {"--gcp", args->gcp}});
+    const fs::path out(args->out);
+    // First: a re-run refused at its options or inputs must not leave the earlier result.
+    RemovePreviousResults(args->out);
     RunOptions options = LoadRunOptions(args->config);
     options.reconstruction.gcp_path = args->gcp;
     options.calibration_is_prior = args->calib_prior;
     if (!args->gcp.empty()) ReadGcpFile(args->gcp);  // a malformed file fails before any work
     Reconstruction gt;
     if (!args->gt.empty()) gt = ReadColmapText(args->gt, /*points_optional=*/true);
-    const fs::path out(args->out);
     PrepareOutputDir(args->out);
-    RemovePreviousResults(args->out);  // never leave an earlier run's result beside a failed run
     SetLogFile((out / "log.txt").string());
     Report report;
     report["command"] = "run";
     report["images"] = args->images;
     report["config"] = args->config;
-    RunOutput result;
     try {
-      result = RunPipeline(args->images, args->calib, args->out, options, &report);
-    } catch (const std::exception& e) {
-      report["status"] = "failed";
-      report["error"] = e.what();
+      const RunOutput result = RunPipeline(args->images, args->calib, args->out, options, &report);
+      const PointlessMapperResult& rec = result.reconstruction;
+      WriteWorkspaceFingerprint(out, FingerprintOf(result.tracks, options.reconstruction, /*with_hessians=*/true));
+      EvaluationMetrics metrics = Evaluate(rec.model, result.tracks, args->gt.empty() ? nullptr : &gt, nullptr);
+      report["evaluation"] = metrics.ToJson();
+      // The page shows the report as it will read; report.json is written after the page, so
+      // that a failure writing the page (a full disk) leaves no report.json with status ok.
+      report["status"] = "ok";
+      HtmlReportInput page;
+      page.title = "pgba run: " + args->images;
+      page.report = &report.json();
+      page.model = &rec.model;
+      page.convergence = &rec.convergence.sigma;
+      page.convergence_tracks = rec.convergence.tracks_evaluated;
+      page.convergence_tracks_total = rec.convergence.tracks_total;
+      page.metrics = &metrics;
+      // The front end's verified pairs (absent when the tracks came from elsewhere).
+      ViewGraphPicture view_graph;
+      const fs::path pairs_file = out / "matching" / "two_view_geometries.txt";
+      if (fs::is_regular_file(pairs_file)) {
+        view_graph = MakeViewGraphPicture(result.tracks, ReadTwoViewGeometries(pairs_file.string()), rec.model);
+        page.view_graph = &view_graph;
+      }
+      WriteStringAtomically((out / "report.html").string(), RunReportHtml(page));
       report.Write((out / "report.json").string());
+      metrics.PrintTable(std::cout);
+      std::cout << "pgba run: " << rec.refined.poses.size() << " / " << result.tracks.images.size()
+                << " images registered, " << rec.model.points3D.size() << " points\n"
+                << "report: " << (out / "report.html").string() << "\n";
+    } catch (const std::exception& e) {
+      RecordFailure(args->out, e, &report);
+      SetLogFile("");
       throw;
     }
-    const PointlessMapperResult& rec = result.reconstruction;
-    WriteWorkspaceFingerprint(out, FingerprintOf(result.tracks, options.reconstruction, /*with_hessians=*/true));
-    EvaluationMetrics metrics = Evaluate(rec.model, result.tracks, args->gt.empty() ? nullptr : &gt, nullptr);
-    report["evaluation"] = metrics.ToJson();
-    report["status"] = "ok";
-    report.Write((out / "report.json").string());
-    HtmlReportInput page;
-    page.title = "pgba run: " + args->images;
-    page.report = &report.json();
-    page.model = &rec.model;
-    page.convergence = &rec.convergence.sigma;
-    page.convergence_tracks = rec.convergence.tracks_evaluated;
-    page.convergence_tracks_total = rec.convergence.tracks_total;
-    page.metrics = &metrics;
-    // The front end's verified pairs (absent when the tracks came from elsewhere).
-    ViewGraphPicture view_graph;
-    const fs::path pairs_file = out / "matching" / "two_view_geometries.txt";
-    if (fs::is_regular_file(pairs_file)) {
-      view_graph = MakeViewGraphPicture(result.tracks, ReadTwoViewGeometries(pairs_file.string()), rec.model);
-      page.view_graph = &view_graph;
-    }
-    WriteStringAtomically((out / "report.html").string(), RunReportHtml(page));
-    metrics.PrintTable(std::cout);
-    std::cout << "pgba run: " << rec.refined.poses.size() << " / " << result.tracks.images.size()
-              << " images registered, " << rec.model.points3D.size() << " points\n"
-              << "report: " << (out / "report.html").string() << "\n";
     SetLogFile("");
     return 0;
   });

@@ -31,6 +31,7 @@
 #include "pgba/io/colmap_text.h"
 #include "pgba/io/loop_pairs.h"
 #include "pgba/util/error.h"
+#include "pgba/util/output_path.h"
 #include "pgba/util/timer.h"
 
 namespace pgba::app {
@@ -118,6 +119,15 @@ int RunSynth(const SynthArgs& args) {
   return 0;
 }
 
+// Every count option has an upper bound: 2e9 points ended in std::bad_alloc.
+constexpr int kMaxImages = 20000;
+constexpr int kMaxPoints = 5000000;
+constexpr int kMaxStrips = 1000;
+void RequireCountAtMost(const CLI::App* sub, const char* option, int value, int max) {
+  if (sub->count(option) && value > max)
+    ThrowInputError(option, 0, "must be <= " + std::to_string(max) + ", got " + std::to_string(value));
+}
+
 }  // namespace
 
 void RegisterSynth(CLI::App& app) {
@@ -163,6 +173,10 @@ void RegisterSynth(CLI::App& app) {
                   "with --render), in [-0.5, 1], distortion 0 (default 0)");
   AddCommand(app, sub, [args, sub] {
     SynthArgs a = *args;
+    RequireOutputPath(a.out, "--out");
+    RequireCountAtMost(sub, "--images", a.options.num_images, kMaxImages);
+    RequireCountAtMost(sub, "--points", a.options.num_points, kMaxPoints);
+    RequireCountAtMost(sub, "--strips", a.options.num_strips, kMaxStrips);
     if (a.seed < 0) ThrowInputError("--seed", 0, "must be >= 0, got " + std::to_string(a.seed));
     static const char* kTrackOnly[] = {"--scenario", "--noise", "--outliers", "--points"};
     static const char* kRenderOnly[] = {"--width", "--height", "--focal", "--supersampling", "--image-noise",

@@ -7,6 +7,7 @@
 #include <functional>
 
 #include "features/image_catalog.h"
+#include "pgba/scene/reconstruction.h"
 
 namespace pgba::app {
 
@@ -22,6 +23,11 @@ void AddCalibrationOptions(CLI::App* sub, pgba::CalibrationInput* calib);
 // the option's range in io/option_ranges.cc, as in a config file: "--threshold: -1 is out of
 // range (> 0; config key matching.verification.relative_pose.threshold_px)", exit code 2.
 CLI::Validator InConfigRange(const std::string& key);
+
+// The tracks a reconstruction starts from, with at least 3 images: InputError naming
+// `source` (the --tracks model's images.txt or the --database) otherwise, before any stage
+// reports the problem without the file.
+void RequireEnoughImages(const pgba::Reconstruction& tracks, const std::string& source);
 
 void RegisterSynth(CLI::App& app);
 void RegisterEvaluate(CLI::App& app);

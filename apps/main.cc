@@ -1,7 +1,10 @@
 // pgba: pointless global bundle adjustment, from tracks or images to poses.
 #include <tbb/global_control.h>
 
+#include <cmath>
 #include <cstdlib>
+#include <filesystem>
+#include <new>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -32,6 +35,12 @@ void AddCalibrationOptions(CLI::App* sub, pgba::CalibrationInput* calib) {
                   "Lines IMAGE_NAME CAMERA_ID, needed when the calibration has several cameras");
 }
 
+void RequireEnoughImages(const Reconstruction& tracks, const std::string& source) {
+  if (tracks.images.size() < 3)
+    ThrowInputError(source, 0,
+                    std::to_string(tracks.images.size()) + " image(s); a reconstruction needs at least 3 images");
+}
+
 CLI::Validator InConfigRange(const std::string& key) {
   const std::optional<OptionRange> range = RangeOfOption(key);
   if (!range) throw std::logic_error("InConfigRange: no range for " + key + " in io/option_ranges.cc");
@@ -44,6 +53,44 @@ CLI::Validator InConfigRange(const std::string& key) {
         return "";
       },
       range->Describe(), "RANGE");
+}
+
+// The one parser of command-line numbers: every floating-point option is held to a finite
+// value (CLI11's own checks, e.g. Range(0, 1), let NaN through: no comparison fails).
+void RequireFiniteNumbers(CLI::App* app) {
+  for (CLI::Option* opt : app->get_options()) {
+    if (opt->get_type_name().rfind("FLOAT", 0) != 0) continue;
+    opt->check(CLI::Validator(
+        [](std::string& text) -> std::string {
+          char* end = nullptr;
+          const double v = std::strtod(text.c_str(), &end);
+          if (text.empty() || end != text.c_str() + text.size()) return "expected a number, got '" + text + "'";
+          if (!std::isfinite(v)) return "expected a finite number, got '" + text + "'";
+          return "";
+        },
+        ""));
+  }
+  for (CLI::App* sub : app->get_subcommands([](CLI::App*) { return true; })) RequireFiniteNumbers(sub);
+}
+
+// A global option written after the command ("pgba features --threads 1"): CLI11 says only
+// that the arguments were not expected. Empty if there is none.
+std::string MisplacedGlobalOption(int argc, char** argv, const std::string& command) {
+  bool after = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (!after) {
+      if (arg == command) after = true;
+      else if (arg == "-v" || arg == "--verbosity" || arg == "--threads") ++i;
+      continue;
+    }
+    for (const char* global : {"--threads", "--verbosity", "-v"}) {
+      const std::string g = global;
+      if (arg == g || arg.rfind(g + "=", 0) == 0)
+        return g + ": a global option, placed before the command (pgba " + g + " VALUE " + command + " ...)";
+    }
+  }
+  return "";
 }
 
 // The first word that is not a global option or its value: the subcommand the user meant.
@@ -79,6 +126,7 @@ int main(int argc, char** argv) {
   app::RegisterBenchmark(app);
   app::RegisterRun(app);
   app::RegisterConvert(app);
+  app::RequireFiniteNumbers(&app);
   const std::string command = app::RequestedCommand(argc, argv);
   std::string known;
   bool is_command = false;
@@ -94,6 +142,10 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help
+    if (const std::string misplaced = app::MisplacedGlobalOption(argc, argv, command); !misplaced.empty()) {
+      std::cerr << "error: " << misplaced << std::endl;
+      return kInputErrorExitCode;
+    }
     std::cerr << "error: " << e.what() << "\nRun with --help for usage." << std::endl;
     return kInputErrorExitCode;
   }
@@ -107,6 +159,13 @@ int main(int argc, char** argv) {
       if (sub->parsed()) return run();
   } catch (const InputError& e) {
     std::cerr << "error: " << e.what() << std::endl;
+    return kInputErrorExitCode;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "error: out of memory (the input or an option asks for more than this machine has)" << std::endl;
+    return 1;
+  } catch (const std::filesystem::filesystem_error& e) {
+    // A path the checks before did not foresee: one line naming it, not the library's text.
+    std::cerr << "error: " << e.path1().string() << ": " << e.code().message() << std::endl;
     return kInputErrorExitCode;
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << std::endl;

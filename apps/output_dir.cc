@@ -6,12 +6,33 @@
 #include <fstream>
 #include <system_error>
 
+#include "pgba/util/atomic_file.h"
 #include "pgba/util/error.h"
 
 namespace pgba::app {
 namespace fs = std::filesystem;
 
+const std::vector<std::string> kFeaturesOutputs = {"features", "report.json"};
+const std::vector<std::string> kMatchOutputs = {"tracks", "matching", "report.json"};
+const std::vector<std::string> kInitOutputs = {"pairs.json", "triplets.json", "init",        "report.json",
+                                               "fingerprint.json", "sparse", "points.ply", "report.html"};
+const std::vector<std::string> kReconstructOutputs = {
+    "sparse",        "points.ply", "report.json", "report.html",  "fingerprint.json",
+    "pairs.json",    "triplets.json", "init",     "motions.json", "local_hessians.json"};
+const std::vector<std::string> kRunOutputs = {
+    "sparse",        "points.ply", "report.json", "report.html",  "fingerprint.json",   "pairs.json", "triplets.json",
+    "init",          "motions.json", "local_hessians.json", "features", "tracks", "matching", "log.txt"};
+const std::vector<std::string> kBenchmarkOutputs = {"models", "benchmark.json", "convergence.svg",
+                                                    "outlier_sweep.svg"};
+
+void CheckOutputDir(const std::string& out, const std::vector<std::string>& written,
+                    const std::vector<NamedInput>& inputs) {
+  RequireOutputPath(out, "--out");
+  CheckOutputDirApartFromInputs(out, written, inputs);
+}
+
 void PrepareOutputDir(const std::string& out) {
+  RemoveStaleStaging(out);
   std::error_code ec;
   fs::create_directories(out, ec);
   if (ec || !fs::is_directory(out))
@@ -26,9 +47,25 @@ void PrepareOutputDir(const std::string& out) {
 
 void RemovePreviousResults(const std::string& out) {
   std::error_code ec;
+  // No folder there (or a file, which PrepareOutputDir reports): no earlier result.
+  if (!fs::is_directory(out, ec)) return;
   for (const char* name : {"sparse", "points.ply", "report.json", "report.html", "fingerprint.json"}) {
     fs::remove_all(fs::path(out) / name, ec);
     if (ec) ThrowInputError((fs::path(out) / name).string(), 0, "cannot remove the previous result: " + ec.message());
+  }
+}
+
+void RecordFailure(const std::string& out, const std::exception& error, Report* report) {
+  try {
+    RemovePreviousResults(out);
+  } catch (const std::exception&) {
+    // The original error is the one to report.
+  }
+  (*report)["status"] = "failed";
+  (*report)["error"] = error.what();
+  try {
+    report->Write((fs::path(out) / "report.json").string());
+  } catch (const std::exception&) {
   }
 }
 

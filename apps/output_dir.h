@@ -3,12 +3,30 @@
 // failed run leaves nothing that reads as its result.
 #pragma once
 
+#include <exception>
 #include <string>
+#include <vector>
 
 #include "mapper/pointless_mapper.h"
+#include "pgba/io/report.h"
 #include "pgba/io/workspace_fingerprint.h"
+#include "pgba/util/output_path.h"
 
 namespace pgba::app {
+
+// The entries each command writes or removes in its output folder (the inputs of a command
+// must not be, or lie inside, one of them).
+extern const std::vector<std::string> kFeaturesOutputs;
+extern const std::vector<std::string> kMatchOutputs;
+extern const std::vector<std::string> kInitOutputs;
+extern const std::vector<std::string> kReconstructOutputs;
+extern const std::vector<std::string> kRunOutputs;
+extern const std::vector<std::string> kBenchmarkOutputs;
+
+// Before anything is touched: `out` (the --out of the command) is not empty and is apart from
+// every input (util/output_path.h). InputError "OUT: problem" otherwise.
+void CheckOutputDir(const std::string& out, const std::vector<std::string>& written,
+                    const std::vector<NamedInput>& inputs);
 
 // Creates `out` and probes that a file can be written in it: a bad --out (a file, no
 // permission, a read-only file system) is an InputError now, not after the computation.
@@ -19,6 +37,11 @@ void PrepareOutputDir(const std::string& out);
 // this run; until then they are refused as a --workspace). Cached inputs (features/, tracks/)
 // stay: a re-run resumes from them.
 void RemovePreviousResults(const std::string& out);
+
+// After a failure: the results written so far removed (RemovePreviousResults) and
+// report.json written with status "failed" and the error, as far as the disk allows (a full
+// disk may refuse even that; nothing then reads as a result).
+void RecordFailure(const std::string& out, const std::exception& error, Report* report);
 
 // The fingerprint of a workspace computed from `tracks` with `options` (its hessian part
 // only if the workspace holds local hessians).

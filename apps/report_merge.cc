@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "pgba/util/atomic_file.h"
+#include "pgba/util/error.h"
 #include "pgba/util/input_file.h"
 #include "pgba/util/logging.h"
 
@@ -18,6 +19,26 @@ void MergeStageIntoReport(const std::string& report_path, const std::string& sta
     }
   }
   report["stages"][stage] = record;
+  WriteStringAtomically(report_path, report.dump(2) + "\n");
+}
+
+void ForgetStage(const std::string& workspace, const std::string& stage, const std::vector<std::string>& outputs) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::is_directory(workspace, ec)) return;
+  RemoveStaleStaging(workspace);
+  for (const std::string& output : outputs) {
+    const fs::path p = fs::path(workspace) / output;
+    fs::remove_all(p, ec);
+    if (ec) ThrowInputError(p.string(), 0, "cannot remove the previous result: " + ec.message());
+  }
+  const std::string report_path = (fs::path(workspace) / "report.json").string();
+  if (!fs::is_regular_file(report_path, ec)) return;
+  nlohmann::json report = nlohmann::json::parse(ReadRegularFile(report_path), nullptr, /*allow_exceptions=*/false);
+  if (report.is_discarded() || !report.is_object() || !report.contains("stages") || !report["stages"].is_object() ||
+      !report["stages"].contains(stage))
+    return;
+  report["stages"].erase(stage);
   WriteStringAtomically(report_path, report.dump(2) + "\n");
 }
 

@@ -11,7 +11,9 @@
 #include "features/buffer_pool.h"
 #include "features/feature_file.h"
 #include "pgba/io/option_ranges.h"
+#include "pgba/util/checksum.h"
 #include "pgba/util/error.h"
+#include "pgba/util/input_file.h"
 #include "pgba/util/logging.h"
 #include "pgba/util/progress.h"
 #include "pgba/util/timer.h"
@@ -32,10 +34,12 @@ struct FileOutcome {
   float contrast_threshold = 0.f;  // where detection ended (FeatureSet::contrast_threshold)
 };
 
-// The cache key: extraction options plus the source file's size and modification time.
+// The cache key: extraction options plus a hash of the source file's bytes. Not its size and
+// modification time: a photo replaced by another of the same size with the same time
+// (cp -p) would reuse the old features.
 std::string CacheKey(const fs::path& file, const SiftOptions& sift) {
-  const auto mtime = fs::last_write_time(file).time_since_epoch().count();
-  return SiftOptionsKey(sift) + " src=" + std::to_string(fs::file_size(file)) + ":" + std::to_string(mtime);
+  const std::string bytes = ReadRegularFile(file.string());
+  return SiftOptionsKey(sift) + " src=" + std::to_string(bytes.size()) + ":fnv1a64:" + Hex64(Fnv1a64(bytes));
 }
 
 std::string SizeMismatch(int w, int h, const Camera& cam) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <fstream>
 
 #include "pgba/util/atomic_file.h"
 #include "pgba/util/checksum.h"
@@ -67,6 +68,18 @@ void WriteFeatureFile(const std::string& path, const FeatureSet& f, const std::s
   bytes.append(kEnd, sizeof(kEnd));
   Put(&bytes, Fnv1a64(bytes));
   WriteStringAtomically(path, bytes);
+}
+
+uint64_t FeatureFileChecksum(const std::string& path) {
+  RequireRegularFile(path);
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  uint64_t sum = 0;
+  const std::streamoff size = in ? static_cast<std::streamoff>(in.tellg()) : -1;
+  if (size < static_cast<std::streamoff>(sizeof(kMagic) + sizeof(kEnd) + sizeof(sum)))
+    ThrowInputError(path, 0, "truncated feature file");
+  in.seekg(size - static_cast<std::streamoff>(sizeof(sum)));
+  if (!in.read(reinterpret_cast<char*>(&sum), sizeof(sum))) ThrowInputError(path, 0, "read error");
+  return sum;
 }
 
 FeatureSet ReadFeatureFile(const std::string& path, std::string* key) {

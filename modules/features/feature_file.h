@@ -31,4 +31,10 @@ void WriteFeatureFile(const std::string& path, const FeatureSet& features, const
 // damaged (checksum) or malformed file is an InputError naming the file and the problem.
 FeatureSet ReadFeatureFile(const std::string& path, std::string* key = nullptr);
 
+// The checksum stored at the end of a feature file (its last 8 bytes): a hash of its whole
+// content, which holds the hash of the source photo (the key), so the caches downstream of
+// the features (the tracks) are keyed on the photos' content through it. InputError naming
+// the file if it is missing or too short.
+uint64_t FeatureFileChecksum(const std::string& path);
+
 }  // namespace pgba

@@ -13,6 +13,7 @@
 #include "features/exif_focal.h"
 #include "pgba/io/calibration_json.h"
 #include "pgba/io/colmap_text.h"
+#include "pgba/io/input_checks.h"
 #include "pgba/util/error.h"
 #include "pgba/util/input_file.h"
 #include "pgba/util/logging.h"
@@ -138,7 +139,14 @@ std::vector<std::string> ListFiles(const fs::path& dir) {
       PGBA_LOG_WARN << it->path().string() << ": cannot access (" << stat_error.message() << "); skipped";
       continue;
     }
-    if (regular) files.push_back(name);
+    if (!regular) continue;
+    // A name the tracks model (COLMAP text) could not give back as it is: left out here,
+    // with the folder named, rather than a model that a later command rejects or misreads.
+    if (const std::string problem = CheckImageName(name); !problem.empty()) {
+      PGBA_LOG_WARN << dir.string() << ": " << problem << "; skipped (rename the file)";
+      continue;
+    }
+    files.push_back(name);
   }
   if (ec) ThrowInputError(dir.string(), 0, "cannot list the image folder: " + ec.message());
   std::sort(files.begin(), files.end());
@@ -182,7 +190,7 @@ std::map<std::string, uint32_t> ReadCameraMap(const std::string& path, const std
   while (reader.NextLine(&tokens)) {
     reader.RequireTokens(tokens, 2, "IMAGE_NAME CAMERA_ID");
     const int64_t id = reader.ToInt(tokens[1], "CAMERA_ID");
-    if (!cameras.count(static_cast<uint32_t>(id)) || id < 0)
+    if (id < 0 || id > static_cast<int64_t>(UINT32_MAX) || !cameras.count(static_cast<uint32_t>(id)))
       reader.Fail("camera " + tokens[1] + " is not in the calibration");
     if (!map.emplace(tokens[0], static_cast<uint32_t>(id)).second) reader.Fail("image " + tokens[0] + " listed twice");
   }
@@ -220,7 +228,7 @@ ImageCatalog BuildImageCatalog(const std::string& images_dir, const CalibrationI
   }
   if (catalog.cameras.empty()) ThrowInputError(catalog.cameras_path, 0, "calibration has no camera");
   for (const auto& [id, cam] : catalog.cameras) {
-    const std::string problem = cam.Validate();
+    const std::string problem = CheckCamera(cam);
     if (!problem.empty()) ThrowInputError(catalog.cameras_path, 0, "camera " + std::to_string(id) + ": " + problem);
   }
 

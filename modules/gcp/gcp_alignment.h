@@ -9,6 +9,7 @@
 
 #include <map>
 #include <nlohmann/json.hpp>
+#include <string>
 #include <vector>
 
 #include "modules/gcp/gcp_constraint.h"
@@ -19,21 +20,33 @@ namespace pgba {
 
 struct GcpAlignment {
   Sim3 transform;        // old global frame -> GCP frame
-  int num_gcps_used = 0;  // GCPs triangulated with the initial poses
+  int num_gcps_used = 0;  // GCPs triangulated with the initial poses (outliers dropped)
   double rms_before = 0.0;  // RMS of |P - T(p)| over the used GCPs, after the transfer (metres)
+  std::vector<std::string> dropped;  // outlying GCPs, removed from the input (see below)
 };
 
-// Applies the transfer to `poses` and `triplets` in place. InputError if fewer than 3 GCPs
-// can be triangulated with the poses or they are (nearly) collinear.
-GcpAlignment AlignToGcps(const GcpInput& input, std::map<uint32_t, Pose>* poses, std::vector<LocalMotion>* triplets);
+// A GCP is an outlier when, with the similarity fitted to the others, its residual exceeds
+// kGcpOutlierFactor x the larger of its sigma and the others' median residual (the initial
+// poses' own error): a mistyped coordinate (1000 m off) or a mis-identified target, which
+// would drag the whole solution (the check rms then reads hundreds of metres).
+constexpr double kGcpOutlierFactor = 20.0;
+
+// Applies the transfer to `poses` and `triplets` in place. With 4 or more triangulated GCPs,
+// outliers (above) are dropped one at a time, worst first, while 3 remain: each is named in
+// a warning with the file, removed from `input` (the global BA does not use it) and listed
+// in GcpAlignment::dropped. InputError naming the file if fewer than 3 GCPs can be
+// triangulated with the poses or they are (nearly) collinear.
+GcpAlignment AlignToGcps(GcpInput& input, std::map<uint32_t, Pose>* poses, std::vector<LocalMotion>* triplets);
 
 // Check of a solution against the GCPs: each GCP triangulated with `poses` vs its given
-// coordinates.
+// coordinates. A GCP whose error exceeds kGcpOutlierFactor x its sigma is named in a warning
+// with the file, and listed in "beyond_sigma" of the JSON.
 struct GcpCheck {
   int num_gcps = 0;  // triangulated
   double rms = 0.0;  // metres
   double max = 0.0;
   std::vector<std::pair<std::string, double>> errors;  // per triangulated GCP
+  std::vector<std::string> beyond_sigma;               // error > kGcpOutlierFactor x sigma
   nlohmann::json ToJson() const;
 };
 GcpCheck CheckGcps(const GcpInput& input, const std::map<uint32_t, Pose>& poses);

@@ -46,6 +46,7 @@ GcpInput LoadGcps(const std::string& path, const Reconstruction& rec, const GcpO
   if (!(options.default_sigma > 0)) throw InputError("gcp.default_sigma must be > 0 (metres)");
   GcpInput in;
   in.options = options;
+  in.path = path;
   in.gcps = MakeGcpConstraints(ReadGcpFile(path), rec, options, path);
   PGBA_LOG_INFO << path << ": " << in.gcps.size() << " usable GCPs";
   return in;

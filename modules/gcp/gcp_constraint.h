@@ -59,6 +59,7 @@ struct GcpConstraint {
 struct GcpInput {
   std::vector<GcpConstraint> gcps;
   GcpOptions options;
+  std::string path;  // the GCP file, for the messages ("" when not from a file)
 };
 
 // Resolves the file's image names against `rec`: observations of unknown images (and

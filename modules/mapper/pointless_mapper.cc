@@ -151,6 +151,7 @@ std::optional<GcpInput> TransferToGcpFrame(const Reconstruction& tracks, const P
   stage["file"] = options.gcp_path;
   stage["gcps"] = gcps.gcps.size();
   stage["gcps_triangulated"] = a.num_gcps_used;
+  stage["gcps_dropped"] = a.dropped;
   stage["scale"] = a.transform.s;
   stage["rms_m"] = a.rms_before;
   return gcps;

@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <optional>
 
+#include "features/feature_file.h"
 #include "features/feature_index.h"
 #include "mapper/mapper_workspace.h"
 #include "matching/front_end_geometries.h"
@@ -10,6 +11,7 @@
 #include "pgba/io/colmap_text.h"
 #include "pgba/scene/camera.h"
 #include "pgba/util/atomic_file.h"
+#include "pgba/util/checksum.h"
 #include "pgba/util/error.h"
 #include "pgba/util/input_file.h"
 #include "pgba/util/logging.h"
@@ -33,11 +35,15 @@ RunOptions LoadRunOptions(const std::string& path) {
 namespace {
 
 // What the tracks of a workspace were computed from: the matching options, every image's
-// feature count and the cameras (the two-view verification works on their bearings, so a
-// re-run with another calibration must match again). Equal keys let a re-run skip matching.
-nlohmann::json TracksKey(const FeatureExtractionResult& features, const MatchingOptions& options) {
+// features (the checksum of its feature file, which holds the hash of the photo's bytes: two
+// photos swapped under their names change it) and the cameras (the two-view verification
+// works on their bearings, so a re-run with another calibration must match again). Equal
+// keys let a re-run skip matching.
+nlohmann::json TracksKey(const std::string& workspace, const FeatureExtractionResult& features,
+                         const MatchingOptions& options) {
   nlohmann::json images = nlohmann::json::array();
-  for (const IndexedImage& im : features.index.images) images.push_back({im.name, im.num_features});
+  for (const IndexedImage& im : features.index.images)
+    images.push_back({im.name, im.num_features, Hex64(FeatureFileChecksum(FeatureFilePath(workspace, im.name)))});
   nlohmann::json cameras = nlohmann::json::array();
   for (const auto& [id, cam] : features.index.cameras)
     cameras.push_back({id, CameraModelName(cam.model), cam.width, cam.height, cam.params});
@@ -72,7 +78,7 @@ using FrontEndGeometries = std::optional<std::vector<TwoViewGeometry>>;
 FrontEndGeometries MatchOrReuse(const FeatureExtractionResult& features, const fs::path& out,
                                 const MatchingOptions& options, Report* report, Reconstruction* tracks,
                                 const char* stage_name = "match") {
-  const nlohmann::json key = TracksKey(features, options);
+  const nlohmann::json key = TracksKey(out.string(), features, options);
   StageTimer timer(report, stage_name);
   FrontEndGeometries result;
   if (CachedTracksValid(out, key)) {

@@ -138,6 +138,49 @@ TEST(GcpAlignment, MovesPosesAndTripletsIntoTheGcpFrame) {
   EXPECT_THROW(AlignToGcps(in, &poses, &triplets), InputError);
 }
 
+// A GCP 1000 m off (a mistyped coordinate) dragged the whole solution (check rms of hundreds
+// of metres, no word): it is dropped, named, and the transfer fits the others exactly.
+TEST(GcpAlignment, DropsAnOutlyingGcpAndNamesTheFile) {
+  RingSceneOptions o;
+  o.num_images = 12;
+  o.num_points = 600;
+  o.noise_px = 0.0;
+  const Reconstruction rec = MakeRingScene(o);
+  const std::map<uint32_t, Pose> gt = PosesOf(rec);
+  std::map<uint32_t, Pose> poses = gt;
+  std::vector<LocalMotion> triplets;
+  const Sim3 S = GcpFrame();
+  std::vector<GcpFileEntry> entries = MakeGcps(rec, S, 5, 0.05);
+  ASSERT_EQ(entries.size(), 5u);
+  entries[2].X += Eigen::Vector3d(1000.0, 0.0, 0.0);
+  GcpInput in;
+  in.path = "site/gcps.txt";
+  in.gcps = MakeGcpConstraints(entries, rec, in.options, in.path);
+  const GcpAlignment a = AlignToGcps(in, &poses, &triplets);
+  EXPECT_EQ(a.dropped, std::vector<std::string>{"gcp2"});
+  EXPECT_EQ(a.num_gcps_used, 4);
+  EXPECT_LT(a.rms_before, 1e-6);
+  ASSERT_EQ(in.gcps.size(), 4u);  // the global BA does not see it
+  for (const GcpConstraint& g : in.gcps) EXPECT_NE(g.name, "gcp2");
+  const GcpCheck check = CheckGcps(in, poses);
+  EXPECT_LT(check.rms, 1e-6);
+  EXPECT_TRUE(check.beyond_sigma.empty());
+  EXPECT_EQ(check.ToJson()["beyond_sigma"].size(), 0u);
+  // Without the transfer's chance to drop it (3 GCPs only), the check names it.
+  GcpInput three = in;
+  three.gcps.resize(3);
+  three.gcps[0].X += Eigen::Vector3d(0.0, 50.0, 0.0);
+  EXPECT_EQ(CheckGcps(three, poses).beyond_sigma, std::vector<std::string>{three.gcps[0].name});
+  // Too few GCPs: the error names the file.
+  in.gcps.resize(2);
+  try {
+    AlignToGcps(in, &poses, &triplets);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("site/gcps.txt: 2 GCPs triangulated", 0), 0u) << e.what();
+  }
+}
+
 TEST(GcpConstraints, UnknownImagesAreSkippedAndUnderObservedGcpsDropped) {
   RingSceneOptions o;
   o.num_images = 8;

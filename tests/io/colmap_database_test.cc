@@ -6,6 +6,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <limits>
 #include <random>
 #include <set>
 
@@ -213,6 +215,74 @@ TEST(ColmapDatabase, DuplicateImageNameIsAnInputError) {
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()), path + ": duplicate image name 'a.jpg'");
   }
+}
+
+// Integers are range-checked before narrowing: a camera_id 4294967297 became camera 1 (and
+// replaced it); names must round-trip through a text model; keypoints must be finite; a
+// database without a verified pair is no empty model.
+TEST(ColmapDatabase, IdsNamesNumbersAndEmptyResultsAreChecked) {
+  auto message = [](const std::function<void()>& f) -> std::string {
+    try {
+      f();
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  const std::string wrapping = TempPath("wrapping.db");
+  {
+    DbWriter w(wrapping);
+    w.Camera(1, 1, 100, 100, {70, 70, 50, 50});
+    w.Sql("INSERT INTO cameras VALUES (4294967297, 1, 100, 100, x'" + std::string(64, '0') + "', 0)");
+  }
+  EXPECT_EQ(message([&] { ReadColmapDatabase(wrapping); }),
+            wrapping + ": camera_id 4294967297 is out of range [0, 4294967295]");
+  const std::string image_camera = TempPath("image_camera.db");
+  {
+    DbWriter w(image_camera);
+    w.Sql("DROP TABLE images; CREATE TABLE images (image_id INTEGER PRIMARY KEY, name TEXT, camera_id INTEGER)");
+    w.Camera(1, 1, 100, 100, {90, 90, 50, 50});
+    w.Sql("INSERT INTO images VALUES (1, 'a.jpg', 4294967297)");
+  }
+  EXPECT_EQ(message([&] { ReadColmapDatabase(image_camera); }),
+            image_camera + ": image 1 camera_id 4294967297 is out of range [0, 4294967295]");
+  for (const std::string& name : {std::string(""), std::string("new\nline.jpg"), std::string("space.jpg ")}) {
+    const std::string path = TempPath("name.db");
+    {
+      DbWriter w(path);
+      w.Camera(1, 1, 100, 100, {90, 90, 50, 50});
+      w.Image(1, name, 1);
+    }
+    EXPECT_EQ(message([&] { ReadColmapDatabase(path); }).rfind(path + ": image 1: ", 0), 0u) << name;
+  }
+  const std::string nan = TempPath("nan.db");
+  {
+    DbWriter w(nan);
+    w.Camera(1, 1, 100, 100, {90, 90, 50, 50});
+    w.Image(1, "a", 1);
+    w.Keypoints(1, 1, 2, {1.f, std::numeric_limits<float>::infinity()});
+  }
+  EXPECT_EQ(message([&] { ReadColmapDatabase(nan); }), nan + ": keypoints of image 1: keypoint 0 is not finite");
+  const std::string unverified = TempPath("unverified.db");
+  {
+    DbWriter w(unverified);
+    w.Camera(1, 1, 100, 100, {90, 90, 50, 50});
+    for (int i = 1; i <= 2; ++i) {
+      w.Image(i, "im" + std::to_string(i), 1);
+      w.Keypoints(i, 5, 2, KeypointBlob(i, 2));
+    }
+    w.TwoView(1, 2, {{0, 0}}, 1);  // DEGENERATE
+  }
+  EXPECT_NE(message([&] { TracksFromColmapDatabase(ReadColmapDatabase(unverified), {}, nullptr, unverified); })
+                .find(unverified + ": no verified two-view geometry"),
+            std::string::npos);
+  const std::string focal = TempPath("focal.db");
+  {
+    DbWriter w(focal);
+    w.Camera(1, 1, 100, 100, {1e-9, 1e-9, 50, 50});
+  }
+  EXPECT_NE(message([&] { ReadColmapDatabase(focal); }).find("camera 1: focal length 1e-09 px is implausible"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -78,10 +78,13 @@ inline Reconstruction RandomModel(std::mt19937& rng, int num_images, int num_poi
     c.height = 700 + 3 * m;
     const bool two_focals = c.model == CameraModel::kPinhole || c.model == CameraModel::kOpenCV;
     // Distortion coefficients of a few percent: larger ones fold the image (not invertible,
-    // which the reader refuses).
+    // which the reader refuses); the principal point inside the image (likewise).
     const int first_distortion = two_focals ? 4 : 3;
     for (int k = 0; k < CameraModelNumParams(c.model); ++k)
-      c.params.push_back(k == 0 ? 900 + 300 * (u(rng) + 1) : (k >= first_distortion ? 0.05 : 1.0) * u(rng));
+      c.params.push_back(k == 0 ? 900 + 300 * (u(rng) + 1)
+                                : (k >= first_distortion       ? 0.05 * u(rng)
+                                   : k >= first_distortion - 2 ? 350 + 300 * u(rng)
+                                                               : u(rng)));
     if (two_focals) c.params[1] = 1000 + u(rng);
     rec.cameras[c.camera_id] = c;
   }

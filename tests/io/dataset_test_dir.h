@@ -37,4 +37,13 @@ class TempDirTest : public ::testing::Test {
   std::filesystem::path dir_;
 };
 
+// The smallest JPEG header the converters read a photo's size from (SOI, a baseline SOF0
+// frame header of width x height, EOI), followed by `tail`.
+inline std::string JpegPhoto(int width, int height, const std::string& tail = "") {
+  std::string b("\xFF\xD8\xFF\xC0\x00\x0B\x08", 7);
+  for (int v : {height, width}) b += {static_cast<char>((v >> 8) & 0xff), static_cast<char>(v & 0xff)};
+  b += std::string("\x01\x01\x11\x00\xFF\xD9", 6);
+  return b + tail;
+}
+
 }  // namespace pgba::testing

@@ -88,8 +88,8 @@ TEST_F(TrajectoryLogTest, WriteReadRoundTripIsExact) {
 }
 
 TEST_F(TrajectoryLogTest, ConvertsASceneIntoTheDatasetLayout) {
-  Write("scene/000002.jpg", "b");
-  Write("scene/000001.jpg", "a");
+  Write("scene/000002.jpg", testing::JpegPhoto(1920, 1080, "b"));
+  Write("scene/000001.jpg", testing::JpegPhoto(1920, 1080, "a"));
   Write("scene/notes.txt", "not a photo");
   const std::string cams = Write("cameras.txt", "1 PINHOLE 1920 1080 1100 1100 960 540\n");
   TanksAndTemplesInput in;
@@ -105,7 +105,7 @@ TEST_F(TrajectoryLogTest, ConvertsASceneIntoTheDatasetLayout) {
   EXPECT_NEAR((second.pose.C() - Eigen::Vector3d(0, 0, 5)).norm(), 0, 1e-12);
   EXPECT_NEAR((gt.images.at(*gt.FindImageByName("000001.jpg")).pose.C() - Eigen::Vector3d(1, 2, 3)).norm(), 0, 1e-12);
   EXPECT_EQ(ReadColmapCameras(out + "/cameras.txt").at(1).params, (std::vector<double>{1100, 1100, 960, 540}));
-  EXPECT_EQ(Read(dir_ / "out" / "images" / "000001.jpg"), "a");  // a link to the original
+  EXPECT_EQ(Read(dir_ / "out" / "images" / "000001.jpg"), testing::JpegPhoto(1920, 1080, "a"));  // a link to the original
   EXPECT_TRUE(std::filesystem::is_symlink(dir_ / "out" / "images" / "000001.jpg"));
   EXPECT_FALSE(std::filesystem::exists(dir_ / "out" / "images" / "notes.txt"));
   EXPECT_FALSE(std::filesystem::exists(dir_ / "out" / "camera_map.txt"));
@@ -118,7 +118,7 @@ TEST_F(TrajectoryLogTest, ConvertsASceneIntoTheDatasetLayout) {
   const Reconstruction gt2 = ReadColmapText(out + "/gt", true);
   EXPECT_NEAR((gt2.images.at(*gt2.FindImageByName("000002.jpg")).pose.C() - Eigen::Vector3d(1, 2, 3)).norm(), 0, 1e-12);
   EXPECT_FALSE(std::filesystem::is_symlink(dir_ / "out" / "images" / "000001.jpg"));
-  EXPECT_EQ(Read(dir_ / "out" / "images" / "000001.jpg"), "a");
+  EXPECT_EQ(Read(dir_ / "out" / "images" / "000001.jpg"), testing::JpegPhoto(1920, 1080, "a"));
   in.image_list = Write("list.txt", "000001.jpg\n");
   try {
     ConvertTanksAndTemples(in, out);

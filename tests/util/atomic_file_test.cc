@@ -259,3 +259,27 @@ TEST_F(AtomicFileTest, SymlinkIsFollowed) {
 
 }  // namespace
 }  // namespace pgba
+
+namespace pgba {
+namespace {
+
+// A run killed with SIGKILL left its staging ("<name>.tmp.<pid>.<n>") forever: the next run
+// removes the staging of processes that are gone, and leaves a live process' alone.
+TEST_F(AtomicFileTest, StaleStagingOfADeadProcessIsRemoved) {
+  const std::string dead = "4194305";  // above the largest pid the kernel hands out
+  const std::string live = std::to_string(::getppid());
+  fs::create_directories(dir_ / ("sparse.tmp." + dead + ".0"));
+  std::ofstream(dir_ / ("sparse.tmp." + dead + ".0") / "images.txt") << "partial";
+  fs::create_directories(dir_ / "tracks");
+  std::ofstream(dir_ / "tracks" / ("key.json.tmp." + dead + ".7")) << "partial";
+  std::ofstream(dir_ / ("sparse.old." + dead + ".2")) << "old";
+  std::ofstream(dir_ / (".pgba_write_probe." + dead)) << "probe";
+  std::ofstream(dir_ / ("report.json.tmp." + live + ".1")) << "a concurrent run";
+  std::ofstream(dir_ / "photo.tmp.jpg") << "not staging";
+  EXPECT_EQ(RemoveStaleStaging(dir_), 4u);
+  EXPECT_EQ(Entries(), (Names{"photo.tmp.jpg", "report.json.tmp." + live + ".1", "tracks"}));
+  EXPECT_EQ(RemoveStaleStaging(dir_ / "missing"), 0u);
+}
+
+}  // namespace
+}  // namespace pgba

@@ -8,6 +8,7 @@
 #include <memory>
 #include <set>
 
+#include "pgba/io/input_checks.h"
 #include "pgba/util/error.h"
 #include "pgba/util/input_file.h"
 
@@ -63,12 +64,26 @@ std::vector<T> ReadBlob(sqlite3_stmt* stmt, int col, int64_t rows, int64_t cols,
   return out;
 }
 
+// An integer column narrowed to `T` only once it is known to fit: a camera_id 4294967297
+// must not become camera 1.
+template <typename T>
+T ColumnInRange(sqlite3_stmt* stmt, int col, int64_t lo, int64_t hi, const std::string& path, const std::string& what) {
+  if (sqlite3_column_type(stmt, col) != SQLITE_INTEGER)
+    ThrowInputError(path, 0, what + " is not an integer");
+  const int64_t v = sqlite3_column_int64(stmt, col);
+  if (v < lo || v > hi)
+    ThrowInputError(path, 0,
+                    what + " " + std::to_string(v) + " is out of range [" + std::to_string(lo) + ", " +
+                        std::to_string(hi) + "]");
+  return static_cast<T>(v);
+}
+
 void ReadCameras(sqlite3* db, const std::string& path, ColmapDatabase* out) {
   Statement stmt = Prepare(db, path, "SELECT camera_id, model, width, height, params FROM cameras ORDER BY camera_id");
   while (Step(db, stmt.get(), path)) {
     Camera cam;
-    cam.camera_id = static_cast<uint32_t>(sqlite3_column_int64(stmt.get(), 0));
-    const int model = sqlite3_column_int(stmt.get(), 1);
+    cam.camera_id = ColumnInRange<uint32_t>(stmt.get(), 0, 0, UINT32_MAX, path, "camera_id");
+    const int model = ColumnInRange<int>(stmt.get(), 1, 0, 1000, path, "camera " + std::to_string(cam.camera_id) + " model");
     const std::string what = "camera " + std::to_string(cam.camera_id);
     // pgba's CameraModel values are COLMAP's model ids 0..4.
     if (model < 0 || model > static_cast<int>(CameraModel::kOpenCV))
@@ -76,12 +91,12 @@ void ReadCameras(sqlite3* db, const std::string& path, ColmapDatabase* out) {
                       what + ": COLMAP camera model id " + std::to_string(model) +
                           " is not supported (SIMPLE_PINHOLE, PINHOLE, SIMPLE_RADIAL, RADIAL, OPENCV are)");
     cam.model = static_cast<CameraModel>(model);
-    cam.width = sqlite3_column_int(stmt.get(), 2);
-    cam.height = sqlite3_column_int(stmt.get(), 3);
+    cam.width = ColumnInRange<int>(stmt.get(), 2, 1, 1000000, path, what + " width");
+    cam.height = ColumnInRange<int>(stmt.get(), 3, 1, 1000000, path, what + " height");
     cam.params = ReadBlob<double>(stmt.get(), 4, CameraModelNumParams(cam.model), 1, path, what + " params");
-    const std::string problem = cam.Validate();
+    const std::string problem = CheckCamera(cam);
     if (!problem.empty()) ThrowInputError(path, 0, what + ": " + problem);
-    out->cameras[cam.camera_id] = cam;
+    if (!out->cameras.emplace(cam.camera_id, cam).second) ThrowInputError(path, 0, what + " listed twice");
   }
 }
 
@@ -91,19 +106,24 @@ void ReadImagesAndKeypoints(sqlite3* db, const std::string& path, ColmapDatabase
   Statement images = Prepare(db, path, "SELECT image_id, name, camera_id FROM images ORDER BY image_id");
   while (Step(db, images.get(), path)) {
     KeypointImage im;
-    im.image_id = static_cast<uint32_t>(sqlite3_column_int64(images.get(), 0));
+    im.image_id = ColumnInRange<uint32_t>(images.get(), 0, 0, kColmapMaxImageId - 1, path, "image_id");
+    const std::string what = "image " + std::to_string(im.image_id);
+    // The whole value, embedded NUL bytes included, so that CheckImageName sees them.
     const unsigned char* name = sqlite3_column_text(images.get(), 1);
-    im.name = name ? reinterpret_cast<const char*>(name) : "";
-    im.camera_id = static_cast<uint32_t>(sqlite3_column_int64(images.get(), 2));
+    if (!name) ThrowInputError(path, 0, what + ": NULL image name");
+    im.name.assign(reinterpret_cast<const char*>(name), sqlite3_column_bytes(images.get(), 1));
+    if (const std::string problem = CheckImageName(im.name); !problem.empty())
+      ThrowInputError(path, 0, what + ": " + problem);
+    im.camera_id = ColumnInRange<uint32_t>(images.get(), 2, 0, UINT32_MAX, path, what + " camera_id");
     if (!out->cameras.count(im.camera_id))
-      ThrowInputError(path, 0, "image " + im.name + " uses unknown camera " + std::to_string(im.camera_id));
-    if (!names.insert(im.name).second) ThrowInputError(path, 0, "duplicate image name '" + im.name + "'");
+      ThrowInputError(path, 0, what + " (" + QuotedName(im.name) + ") uses unknown camera " + std::to_string(im.camera_id));
+    if (!names.insert(im.name).second) ThrowInputError(path, 0, "duplicate image name " + QuotedName(im.name));
     slot[im.image_id] = out->images.size();
     out->images.push_back(std::move(im));
   }
   Statement kps = Prepare(db, path, "SELECT image_id, rows, cols, data FROM keypoints");
   while (Step(db, kps.get(), path)) {
-    const uint32_t image_id = static_cast<uint32_t>(sqlite3_column_int64(kps.get(), 0));
+    const uint32_t image_id = ColumnInRange<uint32_t>(kps.get(), 0, 0, kColmapMaxImageId - 1, path, "keypoints image_id");
     const int64_t rows = sqlite3_column_int64(kps.get(), 1), cols = sqlite3_column_int64(kps.get(), 2);
     const std::string what = "keypoints of image " + std::to_string(image_id);
     const auto it = slot.find(image_id);
@@ -113,7 +133,10 @@ void ReadImagesAndKeypoints(sqlite3* db, const std::string& path, ColmapDatabase
         ReadBlob<float>(kps.get(), 3, rows, rows > 0 ? cols : 0, path, what);
     std::vector<Eigen::Vector2d>& kp = out->images[it->second].keypoints;
     kp.resize(rows);
-    for (int64_t r = 0; r < rows; ++r) kp[r] = Eigen::Vector2d(data[r * cols], data[r * cols + 1]);
+    for (int64_t r = 0; r < rows; ++r) {
+      kp[r] = Eigen::Vector2d(data[r * cols], data[r * cols + 1]);
+      if (!kp[r].allFinite()) ThrowInputError(path, 0, what + ": keypoint " + std::to_string(r) + " is not finite");
+    }
   }
 }
 
@@ -123,11 +146,13 @@ void ReadTwoViewGeometries(sqlite3* db, const std::string& path, ColmapDatabase*
   Statement stmt =
       Prepare(db, path, "SELECT pair_id, rows, cols, data, config FROM two_view_geometries ORDER BY pair_id");
   while (Step(db, stmt.get(), path)) {
-    const uint64_t pair_id = static_cast<uint64_t>(sqlite3_column_int64(stmt.get(), 0));
+    const uint64_t pair_id = ColumnInRange<uint64_t>(stmt.get(), 0, 0, INT64_MAX, path, "pair_id");
     ColmapTwoViewGeometry g;
+    if (pair_id / kColmapMaxImageId >= kColmapMaxImageId)
+      ThrowInputError(path, 0, "pair_id " + std::to_string(pair_id) + " is out of range (image ids < 2147483647)");
     g.image_id2 = static_cast<uint32_t>(pair_id % kColmapMaxImageId);
     g.image_id1 = static_cast<uint32_t>(pair_id / kColmapMaxImageId);
-    g.config = sqlite3_column_int(stmt.get(), 4);
+    g.config = ColumnInRange<int>(stmt.get(), 4, INT32_MIN, INT32_MAX, path, "two-view geometry config");
     const std::string what = "two-view geometry " + std::to_string(g.image_id1) + "-" + std::to_string(g.image_id2);
     if (!ids.count(g.image_id1) || !ids.count(g.image_id2)) ThrowInputError(path, 0, what + ": unknown image");
     const int64_t rows = sqlite3_column_int64(stmt.get(), 1), cols = sqlite3_column_int64(stmt.get(), 2);
@@ -166,6 +191,13 @@ Reconstruction TracksFromColmapDatabase(const ColmapDatabase& db, const TrackBui
     if (!IsVerifiedColmapConfig(g.config) || g.inlier_matches.empty()) continue;
     pairs.push_back({g.image_id1, g.image_id2, g.inlier_matches});
   }
+  // An empty tracks model would read as a result: a database matched but never verified
+  // (colmap *_matcher without geometric verification) is named as such.
+  if (pairs.empty())
+    ThrowInputError(source, 0,
+                    "no verified two-view geometry (two_view_geometries holds " +
+                        std::to_string(db.two_view_geometries.size()) +
+                        " rows, none verified with inliers): run COLMAP's matcher with geometric verification");
   return BuildTracks(db.cameras, db.images, pairs, options, stats, source);
 }
 

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <system_error>
 
+#include "pgba/io/input_checks.h"
 #include "pgba/util/atomic_file.h"
 #include "pgba/util/error.h"
 #include "pgba/util/text_reader.h"
@@ -42,8 +43,10 @@ Image ParseImageHeader(const TextReader& r, const std::vector<std::string>& tok,
   im.pose = Pose::FromQt(q, t);
   im.camera_id = ToId32(r, tok[8], "CAMERA_ID");
   if (!rec.cameras.count(im.camera_id)) r.Fail("CAMERA_ID " + tok[8] + " is not in cameras.txt");
-  // Names may contain spaces: the rest of the raw line, byte for byte.
+  // Names may contain spaces: the rest of the raw line, byte for byte. A name the writer would
+  // refuse (a NUL byte) is refused here, so that every model read can be written back.
   im.name = r.RestOfLine(9);
+  if (const std::string problem = CheckImageName(im.name); !problem.empty()) r.Fail(problem);
   return im;
 }
 
@@ -163,7 +166,7 @@ std::map<uint32_t, Camera> ReadColmapCameras(const std::string& path) {
     c.width = static_cast<int>(w);
     c.height = static_cast<int>(h);
     for (size_t k = 4; k < tok.size(); ++k) c.params.push_back(r.ToDouble(tok[k], "camera parameter"));
-    const std::string problem = c.Validate();
+    const std::string problem = CheckCamera(c);
     if (!problem.empty()) r.Fail(problem);
     cams[c.camera_id] = std::move(c);
   }
@@ -224,7 +227,18 @@ void WriteColmapCamerasFile(const Reconstruction& rec, const std::string& path) 
   });
 }
 
+namespace {
+// A name the images.txt line would not give back as it is (a line break, whitespace at an
+// end) is refused before anything is written: `where` names the output.
+void RequireWritableNames(const Reconstruction& rec, const std::string& where) {
+  for (const auto& [id, im] : rec.images)
+    if (const std::string problem = CheckImageName(im.name); !problem.empty())
+      ThrowInputError(where, 0, "image " + std::to_string(id) + ": " + problem);
+}
+}  // namespace
+
 void WriteColmapImagesFile(const Reconstruction& rec, const std::string& path) {
+  RequireWritableNames(rec, path);
   WriteFileAtomically(path, [&](std::ostream& out) {
     out << "# Image list with two lines of data per image:\n"
         << "#   IMAGE_ID, QW, QX, QY, QZ, TX, TY, TZ, CAMERA_ID, NAME\n"
@@ -261,6 +275,7 @@ void WriteColmapPointsFile(const Reconstruction& rec, const std::string& path) {
 }
 
 void WriteColmapText(const Reconstruction& rec, const std::string& dir) {
+  RequireWritableNames(rec, dir);
   StagedDirectory staged(dir);
   WriteColmapCamerasFile(rec, (staged.path() / "cameras.txt").string());
   WriteColmapImagesFile(rec, (staged.path() / "images.txt").string());

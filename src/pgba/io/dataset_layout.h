@@ -8,6 +8,7 @@
 
 #include <map>
 #include <string>
+#include <vector>
 
 #include "pgba/scene/reconstruction.h"
 
@@ -22,10 +23,17 @@ struct DatasetLayoutOptions {
   std::string Check() const;
 };
 
+// The entries WriteDatasetLayout writes in OUT (no input may be one of them or inside one).
+extern const std::vector<std::string> kDatasetLayoutEntries;
+
 // `gt` holds the cameras and the images (name = file name inside OUT/images/, pose);
 // `sources` maps every image name of `gt` to the existing photo. Its points and 2D
-// observations are not written. InputError naming the file if a source is missing or a
-// name is not a plain file name; outputs are written atomically (gt/ as a whole).
+// observations are not written. Before anything is written, what is written is checked as
+// its readers check it (InputError naming the file): every camera (CheckCamera), every name
+// (a plain file name that a COLMAP text model keeps, listed once), every photo present and
+// of its camera's size (the header of a PNG or JPEG), and no photo inside an output entry
+// (OUT/images being the photos' own folder replaced each photo by a link to itself). Outputs
+// are written atomically (gt/ as a whole).
 void WriteDatasetLayout(const Reconstruction& gt, const std::map<std::string, std::string>& sources,
                         const std::string& out, const DatasetLayoutOptions& options = {});
 

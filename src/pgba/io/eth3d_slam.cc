@@ -8,6 +8,8 @@
 #include <tuple>
 #include <algorithm>
 
+#include "pgba/io/image_header.h"
+#include "pgba/io/input_checks.h"
 #include "pgba/util/error.h"
 #include "pgba/util/input_file.h"
 #include "pgba/util/logging.h"
@@ -18,20 +20,6 @@ namespace pgba {
 namespace fs = std::filesystem;
 
 namespace {
-
-// Width and height from a PNG's IHDR chunk (bytes 16..23, big-endian).
-std::pair<int, int> PngSize(const fs::path& path) {
-  RequireRegularFile(path.string());
-  std::ifstream in(path, std::ios::binary);
-  unsigned char h[24] = {};
-  if (!in.read(reinterpret_cast<char*>(h), 24))
-    throw InputError(path.string() + ": cannot read the PNG header (missing or truncated file)");
-  static const unsigned char kSig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  if (!std::equal(kSig, kSig + 8, h) || std::string(reinterpret_cast<char*>(h + 12), 4) != "IHDR")
-    throw InputError(path.string() + ": not a PNG file");
-  auto be32 = [&](int o) { return (h[o] << 24) | (h[o + 1] << 16) | (h[o + 2] << 8) | h[o + 3]; };
-  return {be32(16), be32(20)};
-}
 
 // The model, and each image's photo path (`sources`, by name).
 Reconstruction ReadSequence(const std::string& sequence_dir, const Eth3dSlamOptions& options,
@@ -75,7 +63,7 @@ Reconstruction ReadSequence(const std::string& sequence_dir, const Eth3dSlamOpti
       PGBA_LOG_WARN << FormatInputError(r.path(), r.line_number(), "frame " + tok[1] + " has no ground truth; left out");
       continue;
     }
-    if (cam.width == 0) std::tie(cam.width, cam.height) = PngSize(dir / tok[1]);
+    if (cam.width == 0) std::tie(cam.width, cam.height) = ReadImageSize((dir / tok[1]).string());
     Image im;
     im.image_id = next_id++;
     im.name = fs::path(tok[1]).filename().string();
@@ -85,6 +73,8 @@ Reconstruction ReadSequence(const std::string& sequence_dir, const Eth3dSlamOpti
     rec.images[im.image_id] = im;
   }
   if (rec.images.empty()) throw InputError(r.path() + ": no frame with ground truth");
+  if (const std::string problem = CheckCamera(cam); !problem.empty())
+    ThrowInputError((dir / "calibration.txt").string(), 0, problem + " (the size is the first photo's)");
   rec.cameras[1] = cam;
   return rec;
 }

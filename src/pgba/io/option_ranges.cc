@@ -284,6 +284,8 @@ const std::map<std::string, std::vector<std::string>>& ChoiceTable() {
       t[prefix + ".linear_solver"] = {"auto", "dense_schur", "sparse_schur", "iterative_schur"};
     }
     t["matching.descriptors.method"] = {"cascade_hashing", "kdtree"};  // matching/descriptor_matcher.h
+    t["matching.pairs.method"] = {"exhaustive", "sequential", "retrieval"};  // matching/pair_selection.h
+    t["triplets.absolute_pose.algorithm"] = {"p3p_kneip", "p3p_gao", "epnp"};  // triplets/absolute_pose.cc
     t["EssentialRansacOptions.algorithm"] = MethodNames(kPoseSolverNames);
     t["point_based.first_pass_loss"] = {"", "huber", "cauchy", "trivial"};  // "": the bundle's loss
     return t;

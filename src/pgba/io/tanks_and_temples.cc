@@ -49,15 +49,26 @@ std::vector<std::string> ImageNames(const TanksAndTemplesInput& in) {
     std::vector<std::string> tok;
     while (reader.NextLine(&tok)) {
       if (tok.size() != 1) reader.Fail("expected one image name per line");
+      if (std::find(names.begin(), names.end(), tok[0]) != names.end())
+        reader.Fail("image " + TextReader::Printable(tok[0]) + " listed twice");
       names.push_back(tok[0]);
     }
     return names;
   }
   std::error_code ec;
   if (!fs::is_directory(in.images_dir, ec)) throw InputError(in.images_dir + ": not a directory");
-  for (const auto& e : fs::directory_iterator(in.images_dir))
-    if (e.is_regular_file() && IsPhoto(e.path()) && e.path().filename().string()[0] != '.')
-      names.push_back(e.path().filename().string());
+  // error_code overloads: an entry that cannot be stat'ed (a symlink loop) is named in one
+  // line, not a raw filesystem_error.
+  fs::directory_iterator it(in.images_dir, ec), end;
+  for (; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.empty() || name[0] == '.' || !IsPhoto(it->path())) continue;
+    std::error_code stat_error;
+    const bool regular = it->is_regular_file(stat_error);
+    if (stat_error) ThrowInputError(it->path().string(), 0, "cannot access: " + stat_error.message());
+    if (regular) names.push_back(name);
+  }
+  if (ec) ThrowInputError(in.images_dir, 0, "cannot list the folder: " + ec.message());
   std::sort(names.begin(), names.end());
   if (names.empty()) throw InputError(in.images_dir + ": no .jpg/.jpeg/.png photo");
   return names;

@@ -1,11 +1,17 @@
 #include "pgba/util/atomic_file.h"
 
+#include <signal.h>
 #include <unistd.h>
+
+#include <cerrno>
+#include <cstdint>
+#include <regex>
 
 #include <atomic>
 #include <fstream>
 #include <stdexcept>
 #include <system_error>
+#include <vector>
 
 #include "pgba/util/error.h"
 
@@ -101,6 +107,32 @@ void CheckOutputFile(const fs::path& path) {
   }
   std::error_code ec;
   fs::remove(probe, ec);
+}
+
+size_t RemoveStaleStaging(const fs::path& dir) {
+  static const std::regex kStaging(R"(.*\.(tmp|old|probe)\.([0-9]{1,10})\.[0-9]+|\.pgba_write_probe\.([0-9]{1,10}))");
+  std::vector<fs::path> stale;
+  std::error_code ec;
+  fs::recursive_directory_iterator it(dir, fs::directory_options::skip_permission_denied, ec), end;
+  for (; !ec && it != end; it.increment(ec)) {
+    std::smatch m;
+    const std::string name = it->path().filename().string();
+    if (!std::regex_match(name, m, kStaging)) continue;
+    const long long pid = std::stoll(m[2].matched ? m[2].str() : m[3].str());
+    // kill(pid, 0) fails with ESRCH only when no such process exists.
+    const bool gone = pid != ::getpid() && (pid <= 0 || pid > INT32_MAX ||
+                                            (::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH));
+    if (!gone) continue;
+    stale.push_back(it->path());
+    std::error_code ignored;
+    if (it->is_directory(ignored)) it.disable_recursion_pending();
+  }
+  size_t removed = 0;
+  for (const fs::path& p : stale) {
+    std::error_code ignored;
+    if (fs::remove_all(p, ignored) > 0) ++removed;
+  }
+  return removed;
 }
 
 StagedDirectory::StagedDirectory(fs::path final_dir)

@@ -30,6 +30,13 @@ void WriteStringAtomically(const std::filesystem::path& path, const std::string&
 // leaves `path` itself as it is.
 void CheckOutputFile(const std::filesystem::path& path);
 
+// Removes, anywhere below `dir`, the temporaries of this file's writers ("<name>.tmp.<pid>.<n>",
+// ".old.", ".probe.", and the ".pgba_write_probe.<pid>" of an output folder's probe) whose
+// process is gone: a run killed with SIGKILL leaves them, and the next run over the same
+// output clears them. Those of a live process (a concurrent run) are left alone. Returns
+// the number removed; errors are ignored (a staging that cannot be removed is harmless).
+size_t RemoveStaleStaging(const std::filesystem::path& dir);
+
 // A staging directory that becomes `final_dir` only when Commit() is called. If the object
 // is destroyed without Commit() (an exception), the staging directory is removed and
 // `final_dir` keeps its previous content. InputError if `final_dir` is an existing file or
