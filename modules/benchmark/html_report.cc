@@ -285,6 +285,23 @@ std::string RunReportHtml(const HtmlReportInput& in) {
           std::to_string(adapted.size()) + ", down to " + FormatNumber("%.4g", lowest));
     }
   }
+  // The view graph and the tracks the result was made from (the second matching's when the run
+  // matched again, the pairs verified again when focals were estimated).
+  if (r.contains("stages") && r["stages"].is_object()) {
+    const nlohmann::json& st = r["stages"];
+    const auto last_of = [&](const char* second, const char* first) -> const nlohmann::json* {
+      if (st.contains(second)) return &st[second];
+      return st.contains(first) ? &st[first] : nullptr;
+    };
+    const nlohmann::json* pairs = last_of("pairs_recalibrated", "pairs");
+    if (pairs && pairs->contains("pairs_kept") && pairs->contains("pairs_kept_front_end"))
+      Row(h, "image pairs verified (view graph)",
+          std::to_string((*pairs)["pairs_kept"].get<long>()) + " (" +
+              std::to_string((*pairs)["pairs_kept_front_end"].get<long>()) + " with the matching's geometry, " +
+              std::to_string(pairs->value("pairs_kept_ransac", 0L)) + " by RANSAC on the tracks)");
+    const nlohmann::json* match = last_of("match_recalibrated", "match");
+    if (match && match->contains("tracks")) Row(h, "tracks (points seen in 2 or more images)", std::to_string((*match)["tracks"].get<long>()));
+  }
   if (in.model) {
     Row(h, "points", std::to_string(in.model->points3D.size()));
     Row(h, "observations", std::to_string(in.model->NumObservations()));

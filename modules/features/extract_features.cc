@@ -208,6 +208,11 @@ FeatureExtractionResult ExtractFeatures(const std::string& images_dir, const Cal
                 << result.num_extracted << " extracted, " << result.num_cached << " from the cache"
                 << (result.skipped.empty() ? "" : ", " + std::to_string(result.skipped.size()) + " files skipped")
                 << "), " << FormatNumber("%.1f", result.seconds) << " s";
+  // Below a few hundred features an image rarely verifies against another one.
+  const long mean = total / static_cast<long>(result.index.images.size());
+  if (mean < 500 && options.sift.target_features == 0)
+    PGBA_LOG_WARN << "few features (" << mean << " per image on average): weakly textured or small images match "
+                  << "poorly; features.sift.target_features (as in configs/object_ring.json) detects more";
   return result;
 }
 

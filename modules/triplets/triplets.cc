@@ -317,9 +317,10 @@ std::vector<LocalMotion> BuildTriplets(const Reconstruction& tracks, const std::
     stats.median_rms_px = rms[rms.size() / 2];
   }
   stats.seconds = timer.Seconds();
-  PGBA_LOG_INFO << "triplets: " << stats.selected << " kept of " << stats.estimated << " estimated ("
+  PGBA_LOG_INFO << "triplets: " << stats.selected << " kept of " << stats.estimated << " estimated (from "
                 << stats.candidates << " triangles of the view graph"
-                << (stats.open_candidates ? ", " + std::to_string(stats.open_candidates) + " open bridges" : "")
+                << (stats.open_candidates ? " and " + std::to_string(stats.open_candidates) + " chains of two pairs"
+                                          : "")
                 << "), " << stats.images_covered << " of " << stats.images_in_view_graph << " images covered, "
                 << FormatNumber("%.2f", stats.median_rms_px) << " px median RMS, " << FormatNumber("%.1f", stats.seconds)
                 << " s";

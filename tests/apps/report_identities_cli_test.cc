@@ -3,7 +3,8 @@
 // --focal-prior-error 0.15`, run with --calib-prior, so the self-calibration moves the image
 // enough to match again and run a second pass):
 //   - the view graph's verified pairs = those from the matching's geometry + those by RANSAC, in
-//     the console, in report.json and in report.html's view graph;
+//     the console, in report.json and in report.html's summary and view graph;
+//   - the tracks of the last matching in the console, report.json, tracks/ and report.html;
 //   - the points of the console = the triangulation stage's = the evaluation's tracks
 //     triangulated = the points of sparse/points3D.txt and of points.ply = report.html's;
 //   - the stages' seconds add up to the run's time, in the order they ran (the first pass one
@@ -95,6 +96,20 @@ TEST(ReportIdentitiesCli, EveryCountAgreesWithTheOthersAndWithTheFiles) {
   EXPECT_EQ(stages["pairs"]["pairs_kept_front_end"], front_end);
   EXPECT_EQ(stages["pairs"]["pairs_kept_ransac"], ransac);
   EXPECT_NE(html.find("<h2>View graph</h2><p>" + std::to_string(verified) + " verified pairs"), std::string::npos);
+  EXPECT_NE(html.find("<th>image pairs verified (view graph)</th><td>" + std::to_string(verified) + " (" +
+                      std::to_string(front_end) + " with the matching's geometry, " + std::to_string(ransac) +
+                      " by RANSAC on the tracks)</td>"),
+            std::string::npos);
+
+  // Tracks: the last matching's (with the self-calibrated cameras), in the console, report.json
+  // and report.html.
+  const std::smatch matching = LastMatch(console, std::regex(R"(matching: \d+ of \d+ image pairs verified, (\d+) tracks)"));
+  ASSERT_FALSE(matching.empty()) << console;
+  const long tracks = std::stol(matching[1]);
+  EXPECT_EQ(stages["match_recalibrated"]["tracks"], tracks);
+  EXPECT_EQ(DataLines(out / "tracks" / "points3D.txt"), tracks);
+  EXPECT_NE(html.find("<th>tracks (points seen in 2 or more images)</th><td>" + std::to_string(tracks) + "</td>"),
+            std::string::npos);
 
   // Points.
   const std::smatch summary =
@@ -103,6 +118,9 @@ TEST(ReportIdentitiesCli, EveryCountAgreesWithTheOthersAndWithTheFiles) {
   const long points = std::stol(summary[3]);
   EXPECT_EQ(std::stoi(summary[1]), 12);
   EXPECT_GT(points, 1000);
+  EXPECT_LE(points, tracks);
+  EXPECT_NE(console.find("points: " + std::to_string(points) + " of " + std::to_string(tracks) + " tracks triangulated"),
+            std::string::npos);
   EXPECT_EQ(stages["triangulation"]["points"], points);
   EXPECT_EQ(r["evaluation"]["details"]["tracks_triangulated"], points);
   EXPECT_EQ(DataLines(out / "sparse" / "points3D.txt"), points);
