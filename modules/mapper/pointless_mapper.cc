@@ -76,8 +76,10 @@ void EstimateFocals(const Reconstruction& tracks, const ViewGraphCalibrationOpti
     if (c.applied) {
       PGBA_LOG_INFO << "focal from the image pairs: " << line;
     } else {
-      PGBA_LOG_WARN << "focal from the image pairs not used (" << c.reason << "); the run goes on from "
-                    << FormatNumber("%.1f", c.prior_focal) << " px: " << line;
+      PGBA_LOG_WARN << "focal of camera " << c.camera_id << " not taken from the image pairs (" << c.reason
+                    << "): the run goes on from " << FormatNumber("%.1f", c.prior_focal)
+                    << " px (a calibration file or an EXIF focal gives a better start)";
+      PGBA_LOG_DEBUG << "focal from the image pairs: " << line;
     }
   }
 }
@@ -123,7 +125,7 @@ GlobalInitResult AverageMotions(const Reconstruction& tracks, const std::vector<
   PGBA_LOG_INFO << "initial poses (rotation and translation averaging): " << init.poses.size() << " of "
                 << tracks.images.size() << " images"
                 << (init.images_dropped.empty() ? "" : " (the others are listed at the end)") << ", from "
-                << init.triplets.size() << " triplets agreeing to "
+                << init.triplets.size() << (init.triplets.size() == 1 ? " triplet" : " triplets") << " agreeing to "
                 << FormatNumber("%.2g", init.stats.rotation.residual_median_deg) << " deg (median), "
                 << FormatNumber("%.1f", stage["seconds"].get<double>()) << " s";
   return init;

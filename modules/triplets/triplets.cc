@@ -318,7 +318,7 @@ std::vector<LocalMotion> BuildTriplets(const Reconstruction& tracks, const std::
   }
   stats.seconds = timer.Seconds();
   PGBA_LOG_INFO << "triplets: " << stats.selected << " kept of " << stats.estimated << " estimated (from "
-                << stats.candidates << " triangles of the view graph"
+                << stats.candidates << (stats.candidates == 1 ? " triangle" : " triangles") << " of the view graph"
                 << (stats.open_candidates ? " and " + std::to_string(stats.open_candidates) + " chains of two pairs"
                                           : "")
                 << "), " << stats.images_covered << " of " << stats.images_in_view_graph << " images covered, "
