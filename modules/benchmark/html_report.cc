@@ -69,7 +69,10 @@ void IntrinsicsTable(std::ostringstream& h, const nlohmann::json& intrinsics) {
       h << "<tr><td>" << camera.value("camera_id", 0) << "</td><td>" << XmlEscape(camera.value("model", ""))
         << "</td><td>" << XmlEscape(p ? p->value("name", name) : name) << "</td><td class=\"n\">" << cell(start)
         << "</td><td class=\"n\">" << cell(final_value) << "</td><td class=\"n\">"
-        << (p ? (std::isfinite(sd) ? FormatNumber("%.2g", sd) : std::string("-")) : std::string("held"))
+        << (p ? (std::isfinite(sd) ? FormatNumber("%.2g", sd) : std::string("-"))
+              // Estimated by an earlier pass only (a run that matched again): not held throughout.
+              : (ParamValue(name, start) == ParamValue(name, final_value) ? std::string("held")
+                                                                          : std::string("held in the last pass")))
         << "</td></tr>\n";
     }
   }

@@ -126,10 +126,7 @@ void FoldStages(Report* report, size_t first, const std::string& name, double se
   report->AddStage(name, seconds, cpu_seconds)["stages"] = folded;
 }
 
-size_t NumStages(Report* report) {
-  const nlohmann::json& stages = report->json().value("stages", nlohmann::json::object());
-  return stages.size();
-}
+size_t NumStages(const Report& report) { return report.json().value("stages", nlohmann::json::object()).size(); }
 
 PointlessMapperResult ReconstructFromFrontEnd(const Reconstruction& tracks, const FrontEndGeometries& geometries,
                                               const PointlessMapper& mapper, Report* report) {
@@ -164,7 +161,7 @@ RunOutput RunPipeline(const std::string& images_dir, const CalibrationInput& cal
   reconstruction.record_convergence = true;
   (*report)["calibration_is_prior"] = reconstruction.refinement.calibration_is_prior;
   const PointlessMapper mapper(reconstruction);
-  const size_t first_pass_stage = NumStages(report);
+  const size_t first_pass_stage = NumStages(*report);
   Timer first_pass_timer;
   CpuTimer first_pass_cpu;
   result.reconstruction = ReconstructFromFrontEnd(result.tracks, geometries, mapper, report);

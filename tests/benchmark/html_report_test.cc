@@ -92,6 +92,12 @@ TEST(HtmlReport, CameraParametersByNameFromThePriorToTheFinalValue) {
   EXPECT_NE(html.find(row("cy", "1064.00", "1064.00", "held")), std::string::npos);
   EXPECT_NE(html.find(row("k", "0", "-0.01235", "0.00041")), std::string::npos);
   EXPECT_EQ(html.find("2437.19"), std::string::npos);  // the second pass's start is not the run's
+
+  // A principal point an earlier pass moved and the last one held is not "held".
+  nlohmann::json moved = report;
+  moved["intrinsics"][0]["final_params"][1] = 1400.5;
+  in.report = &moved;
+  EXPECT_NE(RunReportHtml(in).find(row("cx", "1416.00", "1400.50", "held in the last pass")), std::string::npos);
 }
 
 TEST(HtmlReport, ImagesNotRegisteredWithTheirReasons) {
