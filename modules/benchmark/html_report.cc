@@ -79,25 +79,47 @@ void IntrinsicsTable(std::ostringstream& h, const nlohmann::json& intrinsics) {
   h << "</table>\n";
 }
 
-// The images left out and why: report.json's per-image verification where the run wrote one,
-// else its "images_dropped_reason", else the names alone.
+// The per-image verification record: top-level "image_verification" or the verification
+// stage's "images" (one entry per image not verified as it was: reregistered or dropped).
+nlohmann::json VerificationRecords(const nlohmann::json& r) {
+  if (r.contains("image_verification") && r["image_verification"].is_array()) return r["image_verification"];
+  if (r.contains("stages") && r["stages"].contains("verification"))
+    return r["stages"]["verification"].value("images", nlohmann::json::array());
+  return nlohmann::json::array();
+}
+
+// The images left out and why (report.json's "images_dropped_reason", else the verification
+// record's reason, else the names alone), and the images registered again after a failed check.
 void DroppedImagesTable(std::ostringstream& h, const nlohmann::json& r) {
-  std::vector<std::pair<std::string, std::string>> rows;
-  if (r.contains("image_verification") && r["image_verification"].is_array()) {
-    for (const auto& v : r["image_verification"])
-      if (v.value("status", "") != "ok")
-        rows.push_back({v.value("image", "?"), v.value("status", "") + (v.contains("reason") ? ": " + v.value("reason", "") : "")});
-  } else if (r.contains("images_dropped") && r["images_dropped"].is_array()) {
+  const nlohmann::json verification = VerificationRecords(r);
+  std::vector<std::pair<std::string, std::string>> dropped, again;
+  for (const auto& v : verification)
+    if (v.is_object() && v.value("status", "") == "reregistered")
+      again.push_back({v.value("image", "?"), v.value("reason", "")});
+  if (r.contains("images_dropped") && r["images_dropped"].is_array()) {
     const nlohmann::json reasons = r.value("images_dropped_reason", nlohmann::json::object());
     for (const auto& n : r["images_dropped"]) {
       const std::string name = n.get<std::string>();
-      rows.push_back({name, reasons.value(name, "")});
+      std::string reason = reasons.value(name, "");
+      for (const auto& v : verification)
+        if (reason.empty() && v.is_object() && v.value("image", "") == name && v.value("status", "") == "dropped")
+          reason = "dropped by the final check: " + v.value("reason", "");
+      dropped.push_back({name, reason});
     }
+  } else {
+    for (const auto& v : verification)
+      if (v.is_object() && v.value("status", "") == "dropped")
+        dropped.push_back({v.value("image", "?"), "dropped by the final check: " + v.value("reason", "")});
   }
-  if (rows.empty()) return;
-  h << "<h2>Images not registered</h2><table><tr><th>image</th><th>reason</th></tr>\n";
-  for (const auto& [name, reason] : rows) h << "<tr><td>" << XmlEscape(name) << "</td><td>" << XmlEscape(reason) << "</td></tr>\n";
-  h << "</table>\n";
+  const auto table = [&h](const char* title, const std::vector<std::pair<std::string, std::string>>& rows) {
+    if (rows.empty()) return;
+    h << "<h2>" << title << "</h2><table><tr><th>image</th><th>reason</th></tr>\n";
+    for (const auto& [name, reason] : rows)
+      h << "<tr><td>" << XmlEscape(name) << "</td><td>" << XmlEscape(reason) << "</td></tr>\n";
+    h << "</table>\n";
+  };
+  table("Images not registered", dropped);
+  table("Images registered again after failing the final check", again);
 }
 
 std::vector<std::string> StagesInOrder(const nlohmann::json& stages) {
@@ -168,7 +190,9 @@ void GlobalBaPasses(std::ostringstream& h, const nlohmann::json& r) {
   h << "<h2>Global bundle adjustment</h2>\n";
   if (ba.contains("converged") && ba["converged"].is_boolean())
     h << "<p>" << (ba["converged"].get<bool>()
-                       ? "Converged."
+                       ? "Converged" + (ba.contains("stop_reason") && ba["stop_reason"].is_string()
+                                            ? " (" + XmlEscape(ba["stop_reason"].get<std::string>()) + ")."
+                                            : std::string("."))
                        : "<b>Did not converge</b>: the poses are usable but not final; a run with more iterations "
                          "(global_ba section of the config) may still improve them.")
       << "</p>\n";
@@ -179,7 +203,7 @@ void GlobalBaPasses(std::ostringstream& h, const nlohmann::json& r) {
       for (const auto& [key, value] : pass.items())
         if ((value.is_number() || value.is_boolean()) && std::find(keys.begin(), keys.end(), key) == keys.end())
           keys.push_back(key);
-  std::stable_partition(keys.begin(), keys.end(), [](const std::string& k) { return k == "cost"; });
+  std::stable_partition(keys.begin(), keys.end(), [](const std::string& k) { return k.find("cost") != std::string::npos; });
   h << "<table><tr><th>pass</th>";
   for (const std::string& k : keys) h << "<th>" << XmlEscape(k) << "</th>";
   h << "</tr>\n";

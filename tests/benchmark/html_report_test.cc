@@ -108,12 +108,17 @@ TEST(HtmlReport, ImagesNotRegisteredWithTheirReasons) {
   std::string html = RunReportHtml(in);
   EXPECT_NE(html.find("<tr><td>b.jpg</td><td>not connected</td></tr>"), std::string::npos) << html;
   EXPECT_NE(html.find("<tr><td>a.jpg</td><td>no image pair verified</td></tr>"), std::string::npos);
-  // A per-image verification record, where the run wrote one, is the source.
-  report["image_verification"] = nlohmann::json::parse(R"([{"image": "a.jpg", "status": "ok"},
-      {"image": "c.jpg", "status": "dropped", "reason": "its poses disagree"}])");
+  // The final check's record: images registered again listed apart; a dropped image without
+  // a reason of its own takes the record's.
+  report = nlohmann::json::parse(R"({"images_dropped": ["c.jpg"], "stages": {"verification": {"images": [
+      {"image": "b.jpg", "status": "reregistered", "reason": "its rotation disagrees with its pairs"},
+      {"image": "c.jpg", "status": "dropped", "reason": "too few inliers"}]}}})");
   html = RunReportHtml(in);
-  EXPECT_NE(html.find("<tr><td>c.jpg</td><td>dropped: its poses disagree</td></tr>"), std::string::npos) << html;
-  EXPECT_EQ(html.find("<tr><td>a.jpg</td>"), std::string::npos);
+  EXPECT_NE(html.find("<tr><td>c.jpg</td><td>dropped by the final check: too few inliers</td></tr>"), std::string::npos)
+      << html;
+  const size_t again = html.find("Images registered again after failing the final check");
+  ASSERT_NE(again, std::string::npos);
+  EXPECT_NE(html.find("<tr><td>b.jpg</td><td>its rotation disagrees with its pairs</td></tr>", again), std::string::npos);
 }
 
 TEST(HtmlReport, StagesInTheOrderTheyRanWithTheirTotalAndTheRunsTime) {
@@ -149,6 +154,9 @@ TEST(HtmlReport, GlobalBaPassesAndWhetherItConverged) {
   report["stages"]["global_ba"]["converged"] = true;
   html = RunReportHtml(in);
   EXPECT_NE(html.find("Converged."), std::string::npos);
+  report["stages"]["global_ba"]["stop_reason"] = "cost_tolerance";
+  EXPECT_NE(RunReportHtml(in).find("Converged (cost_tolerance)."), std::string::npos);
+  report["stages"]["global_ba"].erase("stop_reason");
   EXPECT_EQ(html.find("<th>pass</th>"), std::string::npos);
   report["stages"]["global_ba"].erase("converged");  // neither key: no section
   EXPECT_EQ(RunReportHtml(in).find("Global bundle adjustment"), std::string::npos);
