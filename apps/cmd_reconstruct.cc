@@ -14,6 +14,7 @@
 #include "apps/commands.h"
 #include "apps/output_dir.h"
 #include "local_hessian/local_hessian_io.h"
+#include "mapper/dropped_images.h"
 #include "mapper/mapper_workspace.h"
 #include "mapper/run_pipeline.h"
 #include "pgba/io/colmap_text.h"
@@ -70,6 +71,9 @@ void RegisterReconstruct(CLI::App& app) {
       WriteWorkspaceFingerprint(args->out, FingerprintOf(tracks, options, /*with_hessians=*/true));
       report["status"] = "ok";
       report.Write(report_path);
+      if (const std::string dropped = DroppedImagesSummary(DroppedImages(tracks, result), tracks.images.size());
+          !dropped.empty())
+        PGBA_LOG_WARN << dropped;
       PGBA_LOG_INFO << "wrote " << args->out << "/{sparse/, points.ply, report.json}: " << result.refined.poses.size()
                     << " / " << tracks.images.size() << " images, " << result.model.points3D.size() << " points";
     } catch (const std::exception& e) {

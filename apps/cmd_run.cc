@@ -17,7 +17,8 @@
 #include "mapper/run_pipeline.h"
 #include "pgba/io/colmap_text.h"
 #include "pgba/io/gcp_file.h"
-#include "pgba/io/two_view_geometries.h"
+#include "pgba/util/text_format.h"
+#include "pgba/util/timer.h"
 #include "pgba/util/atomic_file.h"
 #include "pgba/util/error.h"
 #include "pgba/util/logging.h"
@@ -44,6 +45,7 @@ void RegisterRun(CLI::App& app) {
 
   AddCommand(app, sub, [args] {
     namespace fs = std::filesystem;
+    const Timer run_timer;  // the whole run, which the stages' seconds add up to
     CheckOutputDir(args->out, kRunOutputs,
                    {{"--images", args->images},
                     {"--calib", args->calib.cameras_path},
@@ -70,11 +72,16 @@ void RegisterRun(CLI::App& app) {
       const RunOutput result = RunPipeline(args->images, args->calib, args->out, options, &report);
       const PointlessMapperResult& rec = result.reconstruction;
       WriteWorkspaceFingerprint(out, FingerprintOf(result.tracks, options.reconstruction, /*with_hessians=*/true));
-      EvaluationMetrics metrics = Evaluate(rec.model, result.tracks, args->gt.empty() ? nullptr : &gt, nullptr);
+      EvaluationMetrics metrics;
+      {
+        StageTimer timer(&report, "evaluation");
+        metrics = Evaluate(rec.model, result.tracks, args->gt.empty() ? nullptr : &gt, nullptr);
+      }
       report["evaluation"] = metrics.ToJson();
       // The page shows the report as it will read; report.json is written after the page, so
       // that a failure writing the page (a full disk) leaves no report.json with status ok.
       report["status"] = "ok";
+      report["seconds"] = run_timer.Seconds();
       HtmlReportInput page;
       page.title = "pgba run: " + args->images;
       page.report = &report.json();
@@ -83,18 +90,15 @@ void RegisterRun(CLI::App& app) {
       page.convergence_tracks = rec.convergence.tracks_evaluated;
       page.convergence_tracks_total = rec.convergence.tracks_total;
       page.metrics = &metrics;
-      // The front end's verified pairs (absent when the tracks came from elsewhere).
-      ViewGraphPicture view_graph;
-      const fs::path pairs_file = out / "matching" / "two_view_geometries.txt";
-      if (fs::is_regular_file(pairs_file)) {
-        view_graph = MakeViewGraphPicture(result.tracks, ReadTwoViewGeometries(pairs_file.string()), rec.model);
-        page.view_graph = &view_graph;
-      }
+      // The view graph the reconstruction started from: the pairs the "pairs" stage verified.
+      const ViewGraphPicture view_graph = MakeViewGraphPicture(result.tracks, rec.initial.pairs, rec.model);
+      page.view_graph = &view_graph;
       WriteStringAtomically((out / "report.html").string(), RunReportHtml(page));
       report.Write((out / "report.json").string());
       metrics.PrintTable(std::cout);
-      std::cout << "pgba run: " << rec.refined.poses.size() << " / " << result.tracks.images.size()
-                << " images registered, " << rec.model.points3D.size() << " points\n"
+      std::cout << "pgba run: " << rec.refined.poses.size() << " of " << result.tracks.images.size()
+                << " images registered, " << rec.model.points3D.size() << " points, "
+                << FormatNumber("%.1f", report["seconds"].get<double>()) << " s\n"
                 << "report: " << (out / "report.html").string() << "\n";
     } catch (const std::exception& e) {
       RecordFailure(args->out, e, &report);

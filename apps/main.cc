@@ -111,7 +111,7 @@ int main(int argc, char** argv) {
   CLI::App app{"pgba: Structure-from-Motion with pointless global bundle adjustment"};
   app.require_subcommand(1);
   int verbosity = 1;
-  app.add_option("-v,--verbosity", verbosity, "0 quiet, 1 info (default), 2 debug")->check(CLI::Range(0, 2));
+  app.add_option("-v,--verbosity", verbosity, "0 warnings only, 1 one line per stage (default), 2 every stage's diagnostics")->check(CLI::Range(0, 2));
   int threads = 0;
   app.add_option("--threads", threads,
                  "Worker threads of every parallel stage (0 = all cores). Results do not depend on it: the same "

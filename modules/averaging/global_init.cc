@@ -134,7 +134,7 @@ GlobalInitResult RunGlobalInitialisation(const Reconstruction& tracks, const std
     if (!result.images_dropped.empty()) {
       std::string names;
       for (const std::string& n : result.images_dropped) names += (names.empty() ? "" : ", ") + n;
-      PGBA_LOG_WARN << "global initialisation dropped " << result.images_dropped.size() << " of "
+      PGBA_LOG_DEBUG << "global initialisation dropped " << result.images_dropped.size() << " of "
                     << stats.images_input << " images: " << names;
     }
     if (!ok) PGBA_LOG_WARN << "global initialisation: " << message;
@@ -159,7 +159,7 @@ GlobalInitResult RunGlobalInitialisation(const Reconstruction& tracks, const std
                                      triplets_only, &from_triplets);
     pairs = PairsConsistentWithTriplets(pairs, measured, options.pair_validation, ok ? &from_triplets : nullptr,
                                         &stats.pairs_inconsistent);
-    PGBA_LOG_INFO << "pair validation: " << stats.pairs_inconsistent << " pairs disagree with the triplets";
+    PGBA_LOG_DEBUG << "pair validation: " << stats.pairs_inconsistent << " pairs disagree with the triplets";
   }
   std::map<uint32_t, Eigen::Matrix3d> rotations;
   const std::vector<RelativeRotation> observations =
@@ -229,7 +229,7 @@ GlobalInitResult RunGlobalInitialisation(const Reconstruction& tracks, const std
     timer.Restart();
     if (!PositionOnTracks(tracks, triplets, options.track_positioning, &poses, &stats.track_positioning) &&
         !stats.track_positioning.message.empty())
-      PGBA_LOG_INFO << "track positioning skipped: " << stats.track_positioning.message;
+      PGBA_LOG_DEBUG << "track positioning skipped: " << stats.track_positioning.message;
     stats.seconds_translation += timer.Seconds();
   }
 
@@ -249,7 +249,7 @@ GlobalInitResult RunGlobalInitialisation(const Reconstruction& tracks, const std
 
   for (uint32_t id : ImagesOfTriplets(triplets, LargestTripletComponent(triplets))) result.poses[id] = poses.at(id);
   result.triplets = std::move(triplets);
-  PGBA_LOG_INFO << "global initialisation: " << result.poses.size() << " images, " << result.triplets.size()
+  PGBA_LOG_DEBUG << "global initialisation: " << result.poses.size() << " images, " << result.triplets.size()
                 << " triplets kept of " << stats.triplets_input << " (" << stats.triplets_outside_component
                 << " outside the component, " << stats.triplets_rotation_outliers << " rotation outliers, "
                 << stats.triplets_centre_outliers << " centre outliers)";

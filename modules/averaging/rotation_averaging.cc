@@ -328,7 +328,7 @@ bool AverageRotations(const std::vector<RelativeRotation>& observations, const R
     deg.resize(inlier_graph.i.size());
     for (size_t k = 0; k < inlier_graph.i.size(); ++k) deg[k] = e.row(k).norm() / kDeg;
     if (!summary.images_without_inliers.empty())
-      PGBA_LOG_WARN << "rotation averaging: " << summary.images_without_inliers.size()
+      PGBA_LOG_DEBUG << "rotation averaging: " << summary.images_without_inliers.size()
                     << " images have no inlier observation connecting them to the others";
   }
   if (!deg.empty()) {
@@ -337,7 +337,7 @@ bool AverageRotations(const std::vector<RelativeRotation>& observations, const R
   }
   for (uint32_t id : summary.images_without_inliers) rotations->erase(id);
   for (size_t k = 0; k < final_graph->ids.size(); ++k) (*rotations)[final_graph->ids[k]] = R[k];
-  PGBA_LOG_INFO << "rotation averaging: " << final_graph->ids.size() << " images, " << summary.num_observations
+  PGBA_LOG_DEBUG << "rotation averaging: " << final_graph->ids.size() << " images, " << summary.num_observations
                 << " observations (" << summary.tree_validated << " of the tree's edges validated), "
                 << summary.l1_iterations << " L1 + " << summary.irls_iterations << " IRLS iterations, "
                 << summary.num_outliers << " outliers" << (options.exclude_outliers ? " excluded" : "")

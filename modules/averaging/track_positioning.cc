@@ -163,7 +163,7 @@ bool PositionOnTracks(const Reconstruction& tracks, const std::vector<LocalMotio
   centroid /= static_cast<double>(C.size());
   for (auto& [id, pose] : *poses) pose = Pose::FromRC(pose.R(), f * (C.at(id) - centroid));
   summary.ran = true;
-  PGBA_LOG_INFO << "track positioning: " << summary.num_points << " points, " << summary.num_observations
+  PGBA_LOG_DEBUG << "track positioning: " << summary.num_points << " points, " << summary.num_observations
                 << " observations, " << summary.iterations << " iterations, reprojection RMS (< 4 px) "
                 << summary.initial_rms_px << " -> " << summary.final_rms_px << " px";
   return finish(true, "ok");

@@ -196,7 +196,7 @@ bool AverageTranslations(const std::vector<LocalMotion>& triplets, const std::ve
   const double f = UpperMedian(lambdas);
   const Eigen::RowVector3d centroid = C.colwise().mean();
   for (size_t n = 0; n < ids.size(); ++n) (*centres)[ids[n]] = f * (C.row(n) - centroid).transpose();
-  PGBA_LOG_INFO << "translation averaging: " << ids.size() << " images, " << num_triplets << " triplets, "
+  PGBA_LOG_DEBUG << "translation averaging: " << ids.size() << " images, " << num_triplets << " triplets, "
                 << summary.num_pairs << " pair directions, median relative residual " << summary.residual_median_rel;
   return finish(true, "ok");
 }

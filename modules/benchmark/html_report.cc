@@ -4,9 +4,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <sstream>
 
 #include "benchmark/svg_plot.h"
+#include "pgba/optim/intrinsics.h"
+#include "pgba/scene/camera.h"
 #include "pgba/util/text_format.h"
 
 namespace pgba {
@@ -22,6 +25,200 @@ std::string ConvergenceSampleNote(const HtmlReportInput& in) {
 
 void Row(std::ostringstream& h, const std::string& key, const std::string& value) {
   h << "<tr><th>" << XmlEscape(key) << "</th><td>" << XmlEscape(value) << "</td></tr>\n";
+}
+
+// A camera parameter's value: pixels (focal, principal point) to 0.01 px, the distortion
+// coefficients to 4 significant digits.
+std::string ParamValue(const std::string& name, double v) {
+  const bool pixels = !name.empty() && (name[0] == 'f' || name[0] == 'c');
+  return FormatNumber(pixels ? "%.2f" : "%.4g", v);
+}
+
+double NumberAt(const nlohmann::json& array, size_t i, double fallback) {
+  return array.is_array() && i < array.size() && array[i].is_number() ? array[i].get<double>() : fallback;
+}
+
+// Each camera's parameters by name: the value the run began from (the calibration file's, the
+// EXIF focal or the default guess: "prior_params", else the pointless BA's start), the final
+// value and its standard deviation; a parameter not estimated says so.
+void IntrinsicsTable(std::ostringstream& h, const nlohmann::json& intrinsics) {
+  h << "<h2>Camera parameters</h2><p>Estimated by the self-calibration: the value the run began from, the final "
+       "value and its standard deviation (pixels for f, cx, cy; no unit for the distortion).</p>\n"
+       "<table><tr><th>camera</th><th>model</th><th>parameter</th><th>start of the run</th><th>final</th>"
+       "<th>standard deviation</th></tr>\n";
+  for (const auto& camera : intrinsics) {
+    CameraModel model = CameraModel::kPinhole;
+    const bool known = ParseCameraModel(camera.value("model", ""), &model);
+    const nlohmann::json estimated = camera.value("params", nlohmann::json::array());
+    const nlohmann::json final_params = camera.value("final_params", nlohmann::json::array());
+    const nlohmann::json prior = camera.value("prior_params", nlohmann::json::array());
+    const int n = known ? CameraModelNumParams(model) : static_cast<int>(estimated.size());
+    for (int i = 0; i < n; ++i) {
+      const nlohmann::json* p = nullptr;
+      for (const auto& e : estimated)
+        if (e.value("index", -1) == i) p = &e;
+      if (!known && i < static_cast<int>(estimated.size())) p = &estimated[i];
+      const std::string name = known ? IntrinsicParamName(model, i) : p->value("name", "?");
+      const auto number = [](const nlohmann::json* q, const char* key) {
+        return q && q->contains(key) && (*q)[key].is_number() ? (*q)[key].get<double>() : NAN;
+      };
+      const double final_value = NumberAt(final_params, i, number(p, "final"));
+      const double start = NumberAt(prior, i, p ? number(p, "initial") : final_value);
+      const double sd = number(p, "stddev");
+      const auto cell = [&](double v) { return std::isfinite(v) ? ParamValue(name, v) : std::string("-"); };
+      h << "<tr><td>" << camera.value("camera_id", 0) << "</td><td>" << XmlEscape(camera.value("model", ""))
+        << "</td><td>" << XmlEscape(p ? p->value("name", name) : name) << "</td><td class=\"n\">" << cell(start)
+        << "</td><td class=\"n\">" << cell(final_value) << "</td><td class=\"n\">"
+        << (p ? (std::isfinite(sd) ? FormatNumber("%.2g", sd) : std::string("-"))
+              // Estimated by an earlier pass only (a run that matched again): not held throughout.
+              : (ParamValue(name, start) == ParamValue(name, final_value) ? std::string("held")
+                                                                          : std::string("held in the last pass")))
+        << "</td></tr>\n";
+    }
+  }
+  h << "</table>\n";
+}
+
+// The per-image verification record: top-level "image_verification" or the verification
+// stage's "images" (one entry per image not verified as it was: reregistered or dropped).
+nlohmann::json VerificationRecords(const nlohmann::json& r) {
+  if (r.contains("image_verification") && r["image_verification"].is_array()) return r["image_verification"];
+  if (r.contains("stages") && r["stages"].contains("verification"))
+    return r["stages"]["verification"].value("images", nlohmann::json::array());
+  return nlohmann::json::array();
+}
+
+// The images left out and why (report.json's "images_dropped_reason", else the verification
+// record's reason, else the names alone), and the images registered again after a failed check.
+void DroppedImagesTable(std::ostringstream& h, const nlohmann::json& r) {
+  const nlohmann::json verification = VerificationRecords(r);
+  std::vector<std::pair<std::string, std::string>> dropped, again;
+  for (const auto& v : verification)
+    if (v.is_object() && v.value("status", "") == "reregistered")
+      again.push_back({v.value("image", "?"), v.value("reason", "")});
+  if (r.contains("images_dropped") && r["images_dropped"].is_array()) {
+    const nlohmann::json reasons = r.value("images_dropped_reason", nlohmann::json::object());
+    for (const auto& n : r["images_dropped"]) {
+      const std::string name = n.get<std::string>();
+      std::string reason = reasons.value(name, "");
+      for (const auto& v : verification)
+        if (reason.empty() && v.is_object() && v.value("image", "") == name && v.value("status", "") == "dropped")
+          reason = "dropped by the final check: " + v.value("reason", "");
+      dropped.push_back({name, reason});
+    }
+  } else {
+    for (const auto& v : verification)
+      if (v.is_object() && v.value("status", "") == "dropped")
+        dropped.push_back({v.value("image", "?"), "dropped by the final check: " + v.value("reason", "")});
+  }
+  const auto table = [&h](const char* title, const std::vector<std::pair<std::string, std::string>>& rows) {
+    if (rows.empty()) return;
+    h << "<h2>" << title << "</h2><table><tr><th>image</th><th>reason</th></tr>\n";
+    for (const auto& [name, reason] : rows)
+      h << "<tr><td>" << XmlEscape(name) << "</td><td>" << XmlEscape(reason) << "</td></tr>\n";
+    h << "</table>\n";
+  };
+  table("Images not registered", dropped);
+  table("Images registered again after failing the final check", again);
+}
+
+std::vector<std::string> StagesInOrder(const nlohmann::json& stages) {
+  std::vector<std::pair<size_t, std::string>> order;
+  for (const auto& [name, st] : stages.items()) order.push_back({st.value("order", size_t{0}), name});
+  std::sort(order.begin(), order.end());
+  std::vector<std::string> names;
+  for (const auto& [o, name] : order) names.push_back(name);
+  return names;
+}
+
+// What a stage of report.json does, in a user's words ("" for a stage not listed).
+std::string StageDescription(const std::string& name) {
+  static const std::map<std::string, std::string> kWords = {
+      {"features", "SIFT features of every image"},
+      {"match", "feature matching and geometric verification of image pairs; tracks"},
+      {"first_pass", "a reconstruction with the starting calibration, whose cameras the matching then uses"},
+      {"match_recalibrated", "matching again with the self-calibrated cameras"},
+      {"pairs", "view graph: the relative pose of every image pair sharing tracks"},
+      {"focal_estimation", "focal lengths from the image pairs"},
+      {"pairs_recalibrated", "view graph again, with the estimated focal lengths"},
+      {"triplets", "image triplets, each solved by its own bundle adjustment"},
+      {"global_init", "initial poses: rotation and translation averaging"},
+      {"gcp_alignment", "initial poses moved into the frame of the ground control points"},
+      {"workspace", "reading the workspace"},
+      {"local_hessians", "local bundle adjustments and their Hessians"},
+      {"global_ba", "pointless global bundle adjustment: the final poses"},
+      {"gcp_check", "ground control points triangulated with the final poses"},
+      {"convergence", "reprojection error per iteration (the convergence plot)"},
+      {"triangulation", "points triangulated with the final poses"},
+      {"output", "writing sparse/ and points.ply"},
+      {"evaluation", "reprojection error of the result (and errors against the ground truth)"}};
+  const auto it = kWords.find(name);
+  return it == kWords.end() ? "" : it->second;
+}
+
+// Every stage in the order it ran with its seconds, and their total beside the run's own time;
+// a stage holding stages (a first pass run again) lists them under it, outside the total.
+void StagesTable(std::ostringstream& h, const nlohmann::json& r) {
+  double total = 0.0;
+  h << "<h2>Stages</h2><table><tr><th>stage</th><th>seconds</th><th>peak memory (MiB)</th><th>what it does</th></tr>\n";
+  for (const std::string& name : StagesInOrder(r["stages"])) {
+    const nlohmann::json& st = r["stages"][name];
+    const double s = st.value("seconds", 0.0);
+    total += s;
+    h << "<tr><td>" << XmlEscape(name) << "</td><td class=\"n\">" << FormatNumber("%.2f", s)
+      << "</td><td class=\"n\">" << FormatNumber("%.0f", st.value("peak_rss_mb", 0.0)) << "</td><td>"
+      << XmlEscape(StageDescription(name)) << "</td></tr>\n";
+    if (st.contains("stages") && st["stages"].is_object())
+      for (const std::string& inner : StagesInOrder(st["stages"]))
+        h << "<tr style=\"color:#777\"><td>&nbsp;&nbsp;" << XmlEscape(name + " / " + inner) << "</td><td class=\"n\">"
+          << FormatNumber("%.2f", st["stages"][inner].value("seconds", 0.0)) << "</td><td></td><td></td></tr>\n";
+  }
+  h << "<tr><th>total</th><th class=\"n\">" << FormatNumber("%.2f", total) << "</th><th></th><th></th></tr>\n";
+  if (r.contains("seconds") && r["seconds"].is_number())
+    h << "<tr><th>whole run</th><th class=\"n\">" << FormatNumber("%.2f", r["seconds"].get<double>())
+      << "</th><th></th><th>from the start of the command to its report</th></tr>\n";
+  h << "</table>\n";
+}
+
+// The pointless global BA's passes (stages.global_ba.passes: one record per pass, its cost
+// first) and whether it converged, where the run recorded them.
+void GlobalBaPasses(std::ostringstream& h, const nlohmann::json& r) {
+  if (!r.contains("stages") || !r["stages"].contains("global_ba")) return;
+  const nlohmann::json& ba = r["stages"]["global_ba"];
+  const nlohmann::json passes = ba.value("passes", nlohmann::json::array());
+  if (!ba.contains("converged") && (!passes.is_array() || passes.empty())) return;
+  h << "<h2>Global bundle adjustment</h2>\n";
+  if (ba.contains("converged") && ba["converged"].is_boolean())
+    h << "<p>" << (ba["converged"].get<bool>()
+                       ? "Converged" + (ba.contains("stop_reason") && ba["stop_reason"].is_string()
+                                            ? " (" + XmlEscape(ba["stop_reason"].get<std::string>()) + ")."
+                                            : std::string("."))
+                       : "<b>Did not converge</b>: the poses are usable but not final; a run with more iterations "
+                         "(global_ba section of the config) may still improve them.")
+      << "</p>\n";
+  if (!passes.is_array() || passes.empty()) return;
+  std::vector<std::string> keys;  // every numeric key of any pass, "cost" first
+  for (const auto& pass : passes)
+    if (pass.is_object())
+      for (const auto& [key, value] : pass.items())
+        if ((value.is_number() || value.is_boolean()) && std::find(keys.begin(), keys.end(), key) == keys.end())
+          keys.push_back(key);
+  std::stable_partition(keys.begin(), keys.end(), [](const std::string& k) { return k.find("cost") != std::string::npos; });
+  h << "<table><tr><th>pass</th>";
+  for (const std::string& k : keys) h << "<th>" << XmlEscape(k) << "</th>";
+  h << "</tr>\n";
+  for (size_t i = 0; i < passes.size(); ++i) {
+    h << "<tr><td>" << i + 1 << "</td>";
+    for (const std::string& k : keys) {
+      const nlohmann::json v = passes[i].is_object() ? passes[i].value(k, nlohmann::json()) : nlohmann::json();
+      h << "<td class=\"n\">"
+        << (v.is_boolean() ? std::string(v.get<bool>() ? "yes" : "no")
+                           : v.is_number() ? FormatNumber("%.6g", v.get<double>()) : std::string("-"))
+        << "</td>";
+    }
+    h << "</tr>\n";
+  }
+  h << "</table>\n";
 }
 
 double Percentile(std::vector<double> v, double q) {
@@ -104,11 +301,6 @@ std::string RunReportHtml(const HtmlReportInput& in) {
   if (r.contains("images_input") && r.contains("images_registered"))
     Row(h, "images registered", std::to_string(r["images_registered"].get<long>()) + " / " +
                                     std::to_string(r["images_input"].get<long>()));
-  if (r.contains("images_dropped") && !r["images_dropped"].empty()) {
-    std::string names;
-    for (const auto& n : r["images_dropped"]) names += (names.empty() ? "" : ", ") + n.get<std::string>();
-    Row(h, "images dropped", names);
-  }
   if (r.contains("stages") && r["stages"].contains("features")) {
     const nlohmann::json& f = r["stages"]["features"];
     if (f.contains("features_mean")) Row(h, "features per image (mean)", FormatNumber("%.0f", f["features_mean"].get<double>()));
@@ -119,6 +311,23 @@ std::string RunReportHtml(const HtmlReportInput& in) {
       Row(h, "images with a lowered SIFT contrast threshold (too few features)",
           std::to_string(adapted.size()) + ", down to " + FormatNumber("%.4g", lowest));
     }
+  }
+  // The view graph and the tracks the result was made from (the second matching's when the run
+  // matched again, the pairs verified again when focals were estimated).
+  if (r.contains("stages") && r["stages"].is_object()) {
+    const nlohmann::json& st = r["stages"];
+    const auto last_of = [&](const char* second, const char* first) -> const nlohmann::json* {
+      if (st.contains(second)) return &st[second];
+      return st.contains(first) ? &st[first] : nullptr;
+    };
+    const nlohmann::json* pairs = last_of("pairs_recalibrated", "pairs");
+    if (pairs && pairs->contains("pairs_kept") && pairs->contains("pairs_kept_front_end"))
+      Row(h, "image pairs verified (view graph)",
+          std::to_string((*pairs)["pairs_kept"].get<long>()) + " (" +
+              std::to_string((*pairs)["pairs_kept_front_end"].get<long>()) + " with the matching's geometry, " +
+              std::to_string(pairs->value("pairs_kept_ransac", 0L)) + " by RANSAC on the tracks)");
+    const nlohmann::json* match = last_of("match_recalibrated", "match");
+    if (match && match->contains("tracks")) Row(h, "tracks (points seen in 2 or more images)", std::to_string((*match)["tracks"].get<long>()));
   }
   if (in.model) {
     Row(h, "points", std::to_string(in.model->points3D.size()));
@@ -148,38 +357,12 @@ std::string RunReportHtml(const HtmlReportInput& in) {
   }
   h << "</table>\n";
 
-  // Self-calibration: each estimated camera parameter, initial -> final (stddev).
-  if (r.contains("intrinsics") && r["intrinsics"].is_array() && !r["intrinsics"].empty()) {
-    h << "<h2>Estimated intrinsics</h2><table><tr><th>camera</th><th>model</th><th>parameter</th><th>initial</th>"
-         "<th>final</th><th>stddev</th></tr>\n";
-    for (const auto& camera : r["intrinsics"])
-      for (const auto& p : camera.value("params", nlohmann::json::array())) {
-        const auto number = [&p](const char* key) {
-          return p.contains(key) && p[key].is_number() ? FormatNumber("%.6g", p[key].get<double>()) : std::string("-");
-        };
-        h << "<tr><td>" << camera.value("camera_id", 0) << "</td><td>" << XmlEscape(camera.value("model", ""))
-          << "</td><td>" << XmlEscape(p.value("name", "")) << "</td><td class=\"n\">" << number("initial")
-          << "</td><td class=\"n\">" << number("final") << "</td><td class=\"n\">" << number("stddev")
-          << "</td></tr>\n";
-      }
-    h << "</table>\n";
-  }
+  DroppedImagesTable(h, r);
+  if (r.contains("intrinsics") && r["intrinsics"].is_array() && !r["intrinsics"].empty())
+    IntrinsicsTable(h, r["intrinsics"]);
 
-  if (r.contains("stages")) {
-    std::vector<std::pair<int, std::string>> order;
-    for (const auto& [name, st] : r["stages"].items()) order.push_back({st.value("order", 0), name});
-    std::sort(order.begin(), order.end());
-    double total = 0.0;
-    h << "<h2>Stages</h2><table><tr><th>stage</th><th>seconds</th><th>peak memory (MiB)</th></tr>\n";
-    for (const auto& [o, name] : order) {
-      const auto& st = r["stages"][name];
-      const double s = st.value("seconds", 0.0);
-      total += s;
-      h << "<tr><td>" << XmlEscape(name) << "</td><td class=\"n\">" << FormatNumber("%.2f", s) << "</td><td class=\"n\">"
-        << FormatNumber("%.0f", st.value("peak_rss_mb", 0.0)) << "</td></tr>\n";
-    }
-    h << "<tr><th>total</th><th class=\"n\">" << FormatNumber("%.2f", total) << "</th><th></th></tr></table>\n";
-  }
+  if (r.contains("stages")) StagesTable(h, r);
+  GlobalBaPasses(h, r);
   if (in.convergence && !in.convergence->empty()) {
     PlotSeries s{"pointless global BA", {}, *in.convergence};
     for (size_t i = 0; i < s.y.size(); ++i) s.x.push_back(static_cast<double>(i));
@@ -188,6 +371,7 @@ std::string RunReportHtml(const HtmlReportInput& in) {
     o.x_label = "iteration";
     o.y_label = "sigma (px)";
     o.log_y = true;
+    o.integer_x = true;
     h << "<h2>Convergence</h2>\n" << LinePlotSvg({s}, o);
   }
   if (in.model) h << "<h2>Top view</h2><p>cameras (red, with viewing direction) and points</p>\n" << TopViewSvg(*in.model);

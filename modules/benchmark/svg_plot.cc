@@ -15,7 +15,7 @@ namespace {
 const char* kColors[] = {"#d62728", "#1f77b4", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b"};
 
 // "Nice" linear ticks covering [lo, hi].
-std::vector<double> LinearTicks(double lo, double hi) {
+std::vector<double> LinearTicks(double lo, double hi, bool integers = false) {
   const double span = std::max(hi - lo, 1e-12);
   const double raw = span / 5.0;
   const double mag = std::pow(10.0, std::floor(std::log10(raw)));
@@ -25,12 +25,34 @@ std::vector<double> LinearTicks(double lo, double hi) {
       step = m * mag;
       break;
     }
+  if (integers) step = std::max(step, 1.0);
   std::vector<double> ticks;
   for (double t = std::ceil(lo / step) * step; t <= hi + 1e-9 * span; t += step) ticks.push_back(t);
   return ticks;
 }
 
+std::vector<AxisTick> LinearAxisTicks(double lo, double hi) {
+  std::vector<AxisTick> ticks;
+  for (double t : LinearTicks(lo, hi)) ticks.push_back({t, true});
+  return ticks;
+}
+
 }  // namespace
+
+std::vector<AxisTick> LogTicks(double lo, double hi) {
+  std::vector<AxisTick> ticks;
+  const int decades = static_cast<int>(std::ceil(hi - lo - 1e-9));
+  // 1, 2 and 5 of each decade labelled over up to three decades, the decades alone beyond;
+  // the other integers of each decade are unlabelled grid lines.
+  const bool label_two_five = decades <= 3;
+  for (double e = std::floor(lo + 1e-9); e <= hi + 1e-9; e += 1.0)
+    for (int m = 1; m <= 9; ++m) {
+      const double t = e + std::log10(static_cast<double>(m));
+      if (t < lo - 1e-9 || t > hi + 1e-9) continue;
+      ticks.push_back({t, m == 1 || (label_two_five && (m == 2 || m == 5))});
+    }
+  return ticks;
+}
 
 std::string LinePlotSvg(const std::vector<PlotSeries>& series, const PlotOptions& o) {
   auto usable = [&](double y) { return std::isfinite(y) && (!o.log_y || y > 0); };
@@ -47,7 +69,9 @@ std::string LinePlotSvg(const std::vector<PlotSeries>& series, const PlotOptions
   if (!std::isfinite(xmin)) xmin = 0, xmax = 1, ymin = 0, ymax = 1;
   if (xmax - xmin < 1e-12) xmax = xmin + 1;
   if (o.log_y) {
-    ymin = std::floor(ymin * 4) / 4, ymax = std::ceil(ymax * 4) / 4;
+    // Whole decades: a tick at each decade, the ends included, whatever the data's span.
+    ymin = std::floor(ymin + 1e-9), ymax = std::ceil(ymax - 1e-9);
+    if (ymax - ymin < 1.0) ymax = ymin + 1.0;
   }
   if (ymax - ymin < 1e-12) ymin -= 0.5, ymax += 0.5;
 
@@ -64,24 +88,19 @@ std::string LinePlotSvg(const std::vector<PlotSeries>& series, const PlotOptions
       << "</text>\n"
       << "<rect x=\"" << left << "\" y=\"" << top << "\" width=\"" << pw << "\" height=\"" << ph
       << "\" fill=\"none\" stroke=\"#444\"/>\n";
-  for (double t : LinearTicks(xmin, xmax))
+  for (double t : LinearTicks(xmin, xmax, o.integer_x))
     svg << "<line x1=\"" << px(t) << "\" y1=\"" << top + ph << "\" x2=\"" << px(t) << "\" y2=\"" << top + ph + 5
         << "\" stroke=\"#444\"/><text x=\"" << px(t) << "\" y=\"" << top + ph + 18 << "\" text-anchor=\"middle\">"
         << FormatNumber("%.4g", t) << "</text>\n";
-  std::vector<double> yticks;
-  if (o.log_y) {
-    for (double e = std::floor(ymin); e <= ymax + 1e-9; e += 1.0)
-      for (double m : {1.0, 2.0, 5.0}) {
-        const double t = e + std::log10(m);
-        if (t >= ymin - 1e-9 && t <= ymax + 1e-9) yticks.push_back(t);
-      }
-  } else {
-    yticks = LinearTicks(ymin, ymax);
+  for (const AxisTick& t : o.log_y ? LogTicks(ymin, ymax) : LinearAxisTicks(ymin, ymax)) {
+    svg << "<line x1=\"" << left << "\" y1=\"" << py(t.at) << "\" x2=\"" << left + pw << "\" y2=\"" << py(t.at)
+        << "\" stroke=\"" << (t.labelled ? "#ccc" : "#eee") << "\"/>";
+    if (t.labelled)
+      svg << "<line x1=\"" << left - 5 << "\" y1=\"" << py(t.at) << "\" x2=\"" << left << "\" y2=\"" << py(t.at)
+          << "\" stroke=\"#444\"/><text x=\"" << left - 8 << "\" y=\"" << py(t.at) + 4
+          << "\" text-anchor=\"end\">" << FormatNumber("%.4g", o.log_y ? std::pow(10.0, t.at) : t.at) << "</text>";
+    svg << "\n";
   }
-  for (double t : yticks)
-    svg << "<line x1=\"" << left << "\" y1=\"" << py(t) << "\" x2=\"" << left + pw << "\" y2=\"" << py(t)
-        << "\" stroke=\"#ddd\"/><text x=\"" << left - 6 << "\" y=\"" << py(t) + 4 << "\" text-anchor=\"end\">"
-        << FormatNumber("%.4g", o.log_y ? std::pow(10.0, t) : t) << "</text>\n";
   svg << "<text x=\"" << left + pw / 2 << "\" y=\"" << o.height - 12 << "\" text-anchor=\"middle\">"
       << XmlEscape(o.x_label) << "</text>\n"
       << "<text transform=\"translate(16," << top + ph / 2 << ") rotate(-90)\" text-anchor=\"middle\">"

@@ -12,6 +12,7 @@
 #include "modules/calibration/radial_distortion_search.h"
 #include "modules/triplets/track_index.h"
 #include "pgba/util/logging.h"
+#include "pgba/util/text_format.h"
 #include "pgba/util/timer.h"
 
 namespace pgba {
@@ -306,8 +307,8 @@ ViewGraphCalibrationResult CalibrateFocalsFromViewGraph(const Reconstruction& tr
                                                 "rotation)"
                                           : std::string());
     } else if (c.reason.empty() && !(c.relative_sd <= options.max_relative_sd)) {
-      c.reason = "too uncertain (relative sd " + std::to_string(c.relative_sd) + " > max_relative_sd " +
-                 std::to_string(options.max_relative_sd) + "): the pairs' geometry does not determine the focal";
+      c.reason = "the pairs' geometry does not determine it: sd " + FormatNumber("%.2g", 100 * c.relative_sd) +
+                 "%, above calibration.max_relative_sd " + FormatNumber("%.2g", 100 * options.max_relative_sd) + "%";
     }
     c.applied = c.reason.empty();
     if (!c.applied) continue;

@@ -95,12 +95,13 @@ SigmaResult EvaluateSigma(const Reconstruction& obs, const PoseMap& poses, const
       out.robust_cost += cap * static_cast<double>(s.num_views);
       continue;
     }
-    ++out.num_triangulated;
     // One view under inlier_px is no reprojection error: a point constrained by one ray lies
     // anywhere on it (at ~1e15 for an outlier track whose Huber estimate runs to infinity, where
-    // the residual in that view is chaotic in the poses). Such observations count as outliers.
+    // the residual in that view is chaotic in the poses). Such observations count as outliers,
+    // and such a track is no point (TriangulateModel keeps none either).
     const size_t agreeing = static_cast<size_t>(std::count_if(
         s.residuals_px.begin(), s.residuals_px.end(), [&](double e) { return e < options.inlier_px; }));
+    out.num_triangulated += agreeing >= 2;
     for (double e : s.residuals_px) {
       all.push_back(e);
       out.robust_cost += std::min(huber(e), cap);

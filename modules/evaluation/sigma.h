@@ -46,7 +46,8 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(SigmaOptions, inlier_px, huber_p
 
 struct SigmaResult {
   size_t num_tracks = 0;        // tracks with >= 2 registered views
-  size_t num_triangulated = 0;  // of those, triangulated successfully
+  size_t num_triangulated = 0;  // of those, triangulated with at least two views under inlier_px
+                                // (the points TriangulateModel keeps)
   size_t num_observations = 0;  // evaluated observations (all views of num_tracks)
   size_t num_inliers = 0;       // evaluated observations under inlier_px
   double rms = 0.0;             // sigma_rms, px (meaningful when num_inliers > 0)

@@ -16,6 +16,7 @@
 #include "pgba/util/input_file.h"
 #include "pgba/util/logging.h"
 #include "pgba/util/progress.h"
+#include "pgba/util/text_format.h"
 #include "pgba/util/timer.h"
 
 namespace pgba {
@@ -204,9 +205,18 @@ FeatureExtractionResult ExtractFeatures(const std::string& images_dir, const Cal
     ThrowInputError(images_dir, 0, "no usable image (" + std::to_string(result.skipped.size()) + " files skipped)");
   WriteFeatureIndex(workspace, result.index);
   result.seconds = timer.Seconds();
-  PGBA_LOG_INFO << "features: " << result.index.images.size() << " images (" << result.num_extracted << " extracted, "
-                << result.num_cached << " cached, " << result.skipped.size() << " skipped) in " << result.seconds
-                << " s";
+  long total = 0;
+  for (const IndexedImage& im : result.index.images) total += im.num_features;
+  PGBA_LOG_INFO << "features: " << result.index.images.size() << " images, "
+                << total / static_cast<long>(result.index.images.size()) << " SIFT features per image on average ("
+                << result.num_extracted << " extracted, " << result.num_cached << " from the cache"
+                << (result.skipped.empty() ? "" : ", " + std::to_string(result.skipped.size()) + " files skipped")
+                << "), " << FormatNumber("%.1f", result.seconds) << " s";
+  // Below a few hundred features an image rarely verifies against another one.
+  const long mean = total / static_cast<long>(result.index.images.size());
+  if (mean < 500 && options.sift.target_features == 0)
+    PGBA_LOG_WARN << "few features (" << mean << " per image on average): weakly textured or small images match "
+                  << "poorly; features.sift.target_features (as in configs/object_ring.json) detects more";
   return result;
 }
 

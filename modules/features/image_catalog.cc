@@ -3,7 +3,6 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -17,6 +16,7 @@
 #include "pgba/util/error.h"
 #include "pgba/util/input_file.h"
 #include "pgba/util/logging.h"
+#include "pgba/util/text_format.h"
 #include "pgba/util/text_reader.h"
 
 namespace pgba {
@@ -104,19 +104,16 @@ void AssignPriorCameras(const fs::path& dir, ImageCatalog* catalog) {
   for (const std::string& f : catalog->files) catalog->camera_of.emplace(f, 1);  // undecodable: see the header
 
   bool any_exif = false, any_default = false;
+  PGBA_LOG_WARN << "no calibration given: the focal length and lens distortion are estimated from the images "
+                   "(pass --calib cameras.txt to use a known calibration)";
   for (const auto& [id, cam] : catalog->cameras) {
     const FocalSource source = source_of.at(id);
     (source == FocalSource::kDefault ? any_default : any_exif) = true;
-    char focal[32];
-    std::snprintf(focal, sizeof(focal), "%.1f", cam.params[0]);
-    PGBA_LOG_WARN << "no calibration given; camera " << id << " (" << num_images.at(id)
-                  << (num_images.at(id) == 1 ? " image, " : " images, ") << cam.width << "x" << cam.height
-                  << ") uses focal " << focal << " px "
-                  << (source == FocalSource::kDefault
-                          ? std::string("= 1.2 * max(width, height), COLMAP's default, for lack of a usable EXIF "
-                                        "focal (a start only: estimated from the view graph before averaging)")
-                          : std::string("from ") + FocalSourceName(source))
-                  << " (SIMPLE_RADIAL with the principal point at the centre, k = 0)";
+    const int n = num_images.at(id);
+    PGBA_LOG_INFO << "camera " << id << ": " << n << (n == 1 ? " image " : " images ") << cam.width << "x"
+                  << cam.height << ", focal " << FormatNumber("%.1f", cam.params[0]) << " px to start "
+                  << (source == FocalSource::kDefault ? std::string("(no EXIF focal: 1.2 x the larger side)")
+                                                      : std::string("(") + FocalSourceName(source) + ")");
   }
   catalog->calibration_source = PriorSourceName(any_exif, any_default);
 }

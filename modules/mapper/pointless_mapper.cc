@@ -6,9 +6,11 @@
 #include <stdexcept>
 #include <utility>
 
+#include "mapper/dropped_images.h"
 #include "pgba/scene/triangulate_model.h"
 #include "pgba/util/error.h"
 #include "pgba/util/logging.h"
+#include "pgba/util/text_format.h"
 #include "triplets/triplets.h"
 
 namespace pgba {
@@ -49,7 +51,6 @@ std::vector<TwoViewGeometry> VerifyPairs(const Reconstruction& tracks, const Pai
   PairStats stats;
   std::vector<TwoViewGeometry> pairs = EstimatePairs(tracks, options, &stats, front_end);
   timer.Stop().update(ToJson(stats));
-  PGBA_LOG_INFO << stage << ": " << pairs.size() << " verified of " << stats.pairs_estimated << " estimated";
   if (pairs.empty())
     throw InputError(std::string(stage) == "pairs"
                          ? "tracks: no image pair could be verified (too few shared tracks?)"
@@ -70,12 +71,15 @@ void EstimateFocals(const Reconstruction& tracks, const ViewGraphCalibrationOpti
   timer.Stop().update(result->calibration.ToJson());
   for (const CameraFocalEstimate& c : result->calibration.cameras) {
     char line[256];
-    std::snprintf(line, sizeof(line), "camera %u: focal %.1f px -> %.1f px (relative sd %.2g, %d pairs)", c.camera_id,
-                  c.prior_focal, c.estimated_focal, c.relative_sd, c.pairs_used);
+    std::snprintf(line, sizeof(line), "camera %u: focal %.1f px -> %.1f px (sd %.2g%%, from %d image pairs)",
+                  c.camera_id, c.prior_focal, c.estimated_focal, 100 * c.relative_sd, c.pairs_used);
     if (c.applied) {
-      PGBA_LOG_INFO << "focal from the view graph: " << line;
+      PGBA_LOG_INFO << "focal from the image pairs: " << line;
     } else {
-      PGBA_LOG_WARN << "focal from the view graph not used, the prior is kept: " << line << ": " << c.reason;
+      PGBA_LOG_WARN << "focal of camera " << c.camera_id << " not taken from the image pairs (" << c.reason
+                    << "): the run goes on from " << FormatNumber("%.1f", c.prior_focal)
+                    << " px (a calibration file or an EXIF focal gives a better start)";
+      PGBA_LOG_DEBUG << "focal from the image pairs: " << line;
     }
   }
 }
@@ -118,9 +122,12 @@ GlobalInitResult AverageMotions(const Reconstruction& tracks, const std::vector<
   (*report)["images_input"] = tracks.images.size();
   (*report)["images_registered"] = init.poses.size();
   (*report)["images_dropped"] = init.images_dropped;
-  for (const auto& name : init.images_dropped) PGBA_LOG_WARN << "image dropped (not in the largest component): " << name;
-  PGBA_LOG_INFO << "global init: " << init.poses.size() << " / " << tracks.images.size() << " images registered, "
-                << init.triplets.size() << " triplets";
+  PGBA_LOG_INFO << "initial poses (rotation and translation averaging): " << init.poses.size() << " of "
+                << tracks.images.size() << " images"
+                << (init.images_dropped.empty() ? "" : " (the others are listed at the end)") << ", from "
+                << init.triplets.size() << (init.triplets.size() == 1 ? " triplet" : " triplets") << " agreeing to "
+                << FormatNumber("%.2g", init.stats.rotation.residual_median_deg) << " deg (median), "
+                << FormatNumber("%.1f", stage["seconds"].get<double>()) << " s";
   return init;
 }
 
@@ -172,10 +179,24 @@ RefinementResult AdjustPointless(const Reconstruction& tracks, const GlobalInitR
   stage.erase("local_hessians");
   if (!refined.cameras.empty()) {
     (*report)["intrinsics"] = refined.intrinsics;
-    for (const nlohmann::json& camera : refined.intrinsics)
-      for (const nlohmann::json& p : camera["params"])
-        PGBA_LOG_INFO << "camera " << camera["camera_id"] << " parameter " << p["index"] << ": " << p["initial"]
-                      << " -> " << p["final"] << " (stddev " << p["stddev"] << ")";
+    // One line per camera, each parameter by name: pixels (f, cx, cy) to 0.01 px, the
+    // distortion to 4 significant digits, the standard deviation to 2.
+    for (const nlohmann::json& camera : refined.intrinsics) {
+      std::string line;
+      for (const nlohmann::json& p : camera["params"]) {
+        const std::string name = p.value("name", "?");
+        const bool pixels = name[0] == 'f' || name[0] == 'c';
+        const char* format = pixels ? "%.2f" : "%.4g";
+        const auto value = [&](const char* key) {
+          return p[key].is_number() ? FormatNumber(format, p[key].get<double>()) : std::string("?");
+        };
+        line += (line.empty() ? "" : ", ") + name + " " + value("initial") + " -> " + value("final") +
+                (pixels ? " px" : "") +
+                (p["stddev"].is_number() ? " (sd " + FormatNumber("%.2g", p["stddev"].get<double>()) + ")" : "");
+      }
+      PGBA_LOG_INFO << "camera " << camera.value("camera_id", 0u) << " (" << camera.value("model", "")
+                    << ") self-calibrated: " << line;
+    }
   }
   return refined;
 }
@@ -220,19 +241,23 @@ Reconstruction Triangulate(const Reconstruction& tracks, const RefinementResult&
   Reconstruction model = refined.cameras.empty() ? TriangulateModel(tracks, refined.poses)
                                                  : TriangulateModel(TracksWithCameras(tracks, refined.cameras),
                                                                     refined.poses);
-  timer.Stop()["points"] = model.points3D.size();
+  nlohmann::json& stage = timer.Stop();
+  stage["points"] = model.points3D.size();
+  PGBA_LOG_INFO << "points: " << model.points3D.size() << " of " << tracks.points3D.size()
+                << " tracks triangulated (2 or more registered images agree on each), "
+                << FormatNumber("%.1f", stage["seconds"].get<double>()) << " s";
   return model;
 }
 
 // The images of the result and the ones left out on the way (report keys).
 void RecordImages(const Reconstruction& tracks, const PointlessMapperResult& r, Report* report) {
   std::vector<std::string> dropped = r.initial.init.images_dropped;
-  for (uint32_t id : r.refined.excluded_images) {
-    dropped.push_back(tracks.images.at(id).name);
-    PGBA_LOG_WARN << "image dropped (in no usable triplet of the global BA): " << tracks.images.at(id).name;
-  }
+  for (uint32_t id : r.refined.excluded_images) dropped.push_back(tracks.images.at(id).name);
   for (const ImageVerdict& v : r.verification.verdicts)
     if (v.status == ImageVerdictStatus::kDropped) dropped.push_back(tracks.images.at(v.image_id).name);
+  // The commands print the list once, at their end (a run may reconstruct twice).
+  const std::string summary = DroppedImagesSummary(DroppedImages(tracks, r), tracks.images.size());
+  if (!summary.empty()) PGBA_LOG_DEBUG << summary;
   (*report)["images_input"] = tracks.images.size();
   (*report)["images_registered"] = r.refined.poses.size();
   (*report)["images_dropped"] = dropped;

@@ -5,6 +5,7 @@
 
 #include "features/feature_file.h"
 #include "features/feature_index.h"
+#include "mapper/dropped_images.h"
 #include "mapper/mapper_workspace.h"
 #include "matching/front_end_geometries.h"
 #include "modules/calibration/pixel_shift.h"
@@ -12,9 +13,12 @@
 #include "pgba/scene/camera.h"
 #include "pgba/util/atomic_file.h"
 #include "pgba/util/checksum.h"
+#include "pgba/util/cpu_time.h"
 #include "pgba/util/error.h"
 #include "pgba/util/input_file.h"
 #include "pgba/util/logging.h"
+#include "pgba/util/text_format.h"
+#include "pgba/util/timer.h"
 
 namespace pgba {
 namespace fs = std::filesystem;
@@ -110,6 +114,26 @@ FrontEndGeometries MatchOrReuse(const FeatureExtractionResult& features, const f
   return ReadFrontEndGeometries(FrontEndGeometriesPath(out.string()), *tracks);
 }
 
+// The stages recorded from position `first` on (a pass that is then run again) folded into one
+// stage `name`: its seconds the pass's wall time, its record {"stages": the pass's stages}. The
+// stage table then sums to the run's time, in the order the stages ran, and a second pass's
+// stages (recorded under the same names) do not replace the first's.
+void FoldStages(Report* report, size_t first, const std::string& name, double seconds, double cpu_seconds) {
+  nlohmann::json& stages = (*report)["stages"];
+  nlohmann::json folded = nlohmann::json::object();
+  for (auto it = stages.begin(); it != stages.end();) {
+    if (it.value().value("order", size_t{0}) >= first) {
+      folded[it.key()] = it.value();
+      it = stages.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  report->AddStage(name, seconds, cpu_seconds)["stages"] = folded;
+}
+
+size_t NumStages(const Report& report) { return report.json().value("stages", nlohmann::json::object()).size(); }
+
 PointlessMapperResult ReconstructFromFrontEnd(const Reconstruction& tracks, const FrontEndGeometries& geometries,
                                               const PointlessMapper& mapper, Report* report) {
   return mapper.Solve(tracks, report, {}, geometries ? &*geometries : nullptr);
@@ -143,18 +167,24 @@ RunOutput RunPipeline(const std::string& images_dir, const CalibrationInput& cal
   reconstruction.record_convergence = true;
   (*report)["calibration_is_prior"] = reconstruction.refinement.calibration_is_prior;
   const PointlessMapper mapper(reconstruction);
+  const size_t first_pass_stage = NumStages(*report);
+  Timer first_pass_timer;
+  CpuTimer first_pass_cpu;
   result.reconstruction = ReconstructFromFrontEnd(result.tracks, geometries, mapper, report);
+  const double first_pass_seconds = first_pass_timer.Seconds(), first_pass_cpu_seconds = first_pass_cpu.Seconds();
 
   // The tracks were verified with the cameras before self-calibration; when it moved them by
   // more than calibration.rematch_shift_px, match again with the refined cameras (written to
   // the workspace's feature index for the matcher, then the catalog's put back) and
-  // reconstruct once more, from them. The report's stages then describe this second pass.
+  // reconstruct once more, from them. The report's stages then describe this second pass; the
+  // first is one stage, "first_pass", with its own stages inside.
   const std::map<uint32_t, Camera>& refined = result.reconstruction.refined.cameras;
   const double rematch_px = options.reconstruction.mapper.calibration.rematch_shift_px;
   const double shift = refined.empty() ? 0.0 : MaxPixelShift(features.index.cameras, refined);
   if (rematch_px > 0 && shift > rematch_px) {
-    PGBA_LOG_INFO << "self-calibration moved the image by up to " << shift
-                  << " px: matching again with the refined cameras";
+    FoldStages(report, first_pass_stage, "first_pass", first_pass_seconds, first_pass_cpu_seconds);
+    PGBA_LOG_INFO << "self-calibration moved image points by up to " << FormatNumber("%.1f", shift)
+                  << " px: matching again with the refined cameras, then a second pass";
     FeatureExtractionResult recalibrated = features;
     recalibrated.index.cameras = refined;
     for (auto& [id, cam] : recalibrated.index.cameras) cam.has_prior_focal_length = true;  // estimated now
@@ -165,7 +195,19 @@ RunOutput RunPipeline(const std::string& images_dir, const CalibrationInput& cal
     result.reconstruction = ReconstructFromFrontEnd(result.tracks, geometries, mapper, report);
   }
   (*report)["rematch_shift_px"] = shift;
+  // The values the run began from beside each estimated camera's (a second pass starts from
+  // the first's result), and why each image left out was.
+  if (report->json().contains("intrinsics") && report->json()["intrinsics"].is_array())
+    for (nlohmann::json& camera : (*report)["intrinsics"]) {
+      const auto prior = features.index.cameras.find(camera.value("camera_id", 0u));
+      if (prior != features.index.cameras.end()) camera["prior_params"] = prior->second.params;
+    }
+  const std::vector<DroppedImage> dropped = DroppedImages(result.tracks, result.reconstruction);
+  (*report)["images_dropped_reason"] = DroppedImagesJson(dropped);
+  if (!dropped.empty()) PGBA_LOG_WARN << DroppedImagesSummary(dropped, result.tracks.images.size());
+  StageTimer output(report, "output");
   WriteReconstruction(out, result.tracks, result.reconstruction);
+  output.Stop();
   return result;
 }
 

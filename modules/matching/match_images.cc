@@ -102,7 +102,7 @@ void SettleWeakPairs(const TripletConfirmationOptions& options, std::vector<std:
       (*verified)[slot[e]].reset();
     }
   }
-  PGBA_LOG_INFO << "matching: " << confirmed << " of " << weak << " weak pairs confirmed by a third view, " << leaf
+  PGBA_LOG_DEBUG << "matching: " << confirmed << " of " << weak << " weak pairs confirmed by a third view, " << leaf
                 << " kept as an image's only link";
 }
 
@@ -131,7 +131,7 @@ void TransferMatches(const FeatureIndex& index, const std::vector<FeatureSet>& f
     (*verified)[slot[e]]->inlier_matches = std::move(estimates[e].matches);
     total += added[e];
   }
-  PGBA_LOG_INFO << "matching: " << total << " matches transferred into third views";
+  PGBA_LOG_DEBUG << "matching: " << total << " matches transferred into third views";
 }
 
 }  // namespace
@@ -159,7 +159,7 @@ MatchingResult MatchImages(const std::string& workspace, const MatchingOptions& 
   result.descriptor_method = options.descriptors.method;
   const std::vector<ImagePair> pairs = SelectPairs(descriptors, options.pairs);
   result.num_pairs = pairs.size();
-  PGBA_LOG_INFO << "matching: " << n << " images, " << pairs.size() << " pairs (" << options.pairs.method << ")";
+  PGBA_LOG_DEBUG << "matching: " << n << " images, " << pairs.size() << " pairs (" << options.pairs.method << ")";
 
   // Per-pair results in preallocated slots keyed by the pair's position in `pairs`.
   std::map<ImagePair, size_t> slot_of;
@@ -257,12 +257,14 @@ MatchingResult MatchImages(const std::string& workspace, const MatchingOptions& 
   for (const auto& [id, im] : result.tracks.images)
     if (im.points2D.empty()) {
       result.images_without_tracks.push_back(im.name);
-      PGBA_LOG_WARN << im.name << ": no verified match with any other image";
+      PGBA_LOG_DEBUG << im.name << ": no verified match with any other image";
     }
   result.seconds = timer.Seconds();
-  PGBA_LOG_INFO << "matching: " << result.two_view_geometries.size() << "/" << pairs.size() << " pairs verified, "
-                << result.track_stats.num_tracks << " tracks (" << result.track_stats.num_conflicting
-                << " conflicting dropped), " << result.seconds << " s";
+  PGBA_LOG_INFO << "matching: " << result.two_view_geometries.size() << " of " << pairs.size()
+                << " image pairs verified, " << result.track_stats.num_tracks << " tracks (points seen in 2 or more "
+                << "images), " << FormatNumber("%.1f", result.seconds) << " s";
+  PGBA_LOG_DEBUG << "matching: " << result.track_stats.num_conflicting
+                 << " tracks dropped for holding two features of one image";
   return result;
 }
 

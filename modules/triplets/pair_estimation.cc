@@ -12,6 +12,7 @@
 #include "modules/triplets/track_index.h"
 #include "pgba/util/logging.h"
 #include "pgba/util/progress.h"
+#include "pgba/util/text_format.h"
 #include "pgba/util/timer.h"
 
 namespace pgba {
@@ -188,6 +189,8 @@ nlohmann::json ToJson(const PairStats& s) {
           {"rejected_few_inliers", s.rejected_few_inliers},
           {"rejected_small_angle", s.rejected_small_angle},
           {"pairs_kept", s.pairs_kept},
+          {"pairs_kept_front_end", s.pairs_kept_front_end},
+          {"pairs_kept_ransac", s.pairs_kept_ransac},
           {"images_in_view_graph", s.images_in_view_graph},
           {"seconds", s.seconds}};
 }
@@ -235,6 +238,8 @@ std::vector<TwoViewGeometry> EstimatePairs(const Reconstruction& tracks, const P
     switch (outcomes[i]) {
       case PairOutcome::kKept:
         kept.push_back(geometries[i]);
+        ++(paths[i] == PairPath::kReused || paths[i] == PairPath::kRefined ? stats.pairs_kept_front_end
+                                                                           : stats.pairs_kept_ransac);
         images.insert(candidates[i].id1);
         images.insert(candidates[i].id2);
         break;
@@ -246,9 +251,16 @@ std::vector<TwoViewGeometry> EstimatePairs(const Reconstruction& tracks, const P
   stats.pairs_kept = static_cast<int>(kept.size());
   stats.images_in_view_graph = static_cast<int>(images.size());
   stats.seconds = timer.Seconds();
-  PGBA_LOG_INFO << "view graph: " << stats.pairs_kept << " of " << stats.pairs_estimated << " pairs verified ("
-                << stats.pairs_front_end << " from the front end, " << stats.pairs_ransac << " RANSAC), "
-                << stats.images_in_view_graph << "/" << stats.images << " images, " << stats.seconds << " s";
+  const int rejected = stats.pairs_estimated - stats.pairs_kept;
+  PGBA_LOG_INFO << "view graph: " << stats.pairs_kept << " image pairs verified of " << stats.pairs_estimated
+                << " sharing tracks (" << stats.pairs_kept_front_end << " with the matching's geometry, "
+                << stats.pairs_kept_ransac << " by RANSAC on the tracks), " << stats.images_in_view_graph << " of "
+                << stats.images << " images connected, " << FormatNumber("%.1f", stats.seconds) << " s";
+  PGBA_LOG_DEBUG << "view graph: " << rejected << " pairs rejected (" << stats.rejected_no_model << " no relative pose, "
+                 << stats.rejected_few_inliers << " too few inliers, " << stats.rejected_small_angle
+                 << " baseline too short for their depth); " << stats.pairs_few_shared << " pairs sharing fewer than "
+                 << options.min_shared_tracks << " tracks and " << stats.pairs_capped
+                 << " beyond the per-image limit not examined";
   if (stats_out) *stats_out = stats;
   return kept;
 }

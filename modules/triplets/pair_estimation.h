@@ -73,6 +73,8 @@ struct PairStats {
   int rejected_few_inliers = 0;   // below min_inliers / min_inlier_ratio
   int rejected_small_angle = 0;   // median triangulation angle below the threshold
   int pairs_kept = 0;
+  int pairs_kept_front_end = 0;   // of the kept: the front end's geometry (reused or refined)
+  int pairs_kept_ransac = 0;      // of the kept: estimated by RANSAC (pairs_kept = these two)
   int images_in_view_graph = 0;   // images with at least one kept pair
   double seconds = 0.0;
 };

@@ -112,6 +112,7 @@ struct TripletStats {
   int rejected_high_rms = 0;
   int rejected_degenerate = 0;        // near pure rotation / baseline tiny w.r.t. depth
   int selection_rounds = 0;
+  int selected_unestimated = 0;       // selected but not estimated when max_selection_rounds ran out
   int selected = 0;                   // triplets returned
   int images_in_view_graph = 0;
   int images_covered = 0;             // images in at least one returned triplet

@@ -13,6 +13,7 @@
 #include "pgba/geometry/rotation.h"
 #include "pgba/util/logging.h"
 #include "pgba/util/progress.h"
+#include "pgba/util/text_format.h"
 #include "pgba/util/timer.h"
 
 namespace pgba {
@@ -203,6 +204,7 @@ nlohmann::json ToJson(const TripletStats& s) {
           {"rejected_high_rms", s.rejected_high_rms},
           {"rejected_degenerate", s.rejected_degenerate},
           {"selection_rounds", s.selection_rounds},
+          {"selected_unestimated", s.selected_unestimated},
           {"selected", s.selected},
           {"images_in_view_graph", s.images_in_view_graph},
           {"images_covered", s.images_covered},
@@ -271,8 +273,7 @@ std::vector<LocalMotion> BuildTriplets(const Reconstruction& tracks, const std::
         if (candidates[i].state == State::kPending) todo.push_back(i);
       if (todo.empty()) break;
       if (round >= std::max(1, options.max_selection_rounds)) {
-        PGBA_LOG_WARN << "triplet selection: " << todo.size() << " selected triplets left unestimated after "
-                      << round << " rounds";
+        stats.selected_unestimated += static_cast<int>(todo.size());
         break;
       }
       stats.selection_rounds = round + 1;
@@ -316,11 +317,32 @@ std::vector<LocalMotion> BuildTriplets(const Reconstruction& tracks, const std::
     stats.median_rms_px = rms[rms.size() / 2];
   }
   stats.seconds = timer.Seconds();
-  PGBA_LOG_INFO << "triplets: " << stats.selected << " kept of " << stats.candidates << " candidates + "
-                << stats.open_candidates << " open (" << stats.open_selected << " open kept, "
-                << stats.estimated << " estimated), " << stats.images_covered << "/" << stats.images_in_view_graph
-                << " images covered, " << stats.triplet_graph_components << " component(s), " << stats.seconds
+  PGBA_LOG_INFO << "triplets: " << stats.selected << " kept of " << stats.estimated << " estimated (from "
+                << stats.candidates << (stats.candidates == 1 ? " triangle" : " triangles") << " of the view graph"
+                << (stats.open_candidates ? " and " + std::to_string(stats.open_candidates) + " chains of two pairs"
+                                          : "")
+                << "), " << stats.images_covered << " of " << stats.images_in_view_graph << " images covered, "
+                << FormatNumber("%.2f", stats.median_rms_px) << " px median RMS, " << FormatNumber("%.1f", stats.seconds)
                 << " s";
+  if (stats.triplet_graph_components > 1)
+    PGBA_LOG_WARN << "triplets: they form " << stats.triplet_graph_components
+                  << " groups that share no image pair; only the largest is reconstructed (more overlap between the "
+                     "groups' photos joins them)";
+  // Triplets still pending when the rounds ran out are left out: harmless while every image is
+  // in a kept triplet (the others only add redundancy), a lost image otherwise.
+  if (stats.selected_unestimated > 0) {
+    const int uncovered = stats.images_in_view_graph - stats.images_covered;
+    if (uncovered > 0) {
+      PGBA_LOG_WARN << "triplets: the selection stopped after " << options.max_selection_rounds << " rounds with "
+                    << stats.selected_unestimated << " chosen triplets not estimated, and " << uncovered
+                    << " images are in no kept triplet (they cannot be registered): raise "
+                       "triplets.max_selection_rounds in the config";
+    } else {
+      PGBA_LOG_DEBUG << "triplets: the selection stopped after " << options.max_selection_rounds << " rounds with "
+                     << stats.selected_unestimated
+                     << " chosen triplets not estimated; every image is in a kept triplet, so none is lost";
+    }
+  }
   if (stats_out) *stats_out = stats;
   return result;
 }

@@ -1,0 +1,30 @@
+// The images a reconstruction left out, each with the stage that left it out in words a user
+// can act on: the console's one warning line and report.json's "images_dropped_reason".
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "mapper/pointless_mapper.h"
+
+namespace pgba {
+
+struct DroppedImage {
+  std::string name;
+  std::string reason;
+};
+
+// The images of `tracks` without a pose in `result.refined.poses`, in name order, each with
+// the first reason that applies: no track, no verified pair, left out by the global
+// initialisation, dropped by the final verification of the poses, left out by the global BA.
+std::vector<DroppedImage> DroppedImages(const Reconstruction& tracks, const PointlessMapperResult& result);
+
+// One line: how many of `num_images` were left out, their names grouped by reason, and what to
+// try; "" when none was.
+std::string DroppedImagesSummary(const std::vector<DroppedImage>& dropped, size_t num_images);
+
+// {name: reason} in name order.
+nlohmann::json DroppedImagesJson(const std::vector<DroppedImage>& dropped);
+
+}  // namespace pgba
