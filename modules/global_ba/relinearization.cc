@@ -312,17 +312,18 @@ GlobalBAResult GraduatedRelinearization(const Reconstruction& tracks, const Loca
   if (options.start_outlier_factor <= 0 || options.max_relinearizations == 0)
     return CheckedRelinearization(tracks, lh_options, initial_poses, motions, hessians, options, callback, gcps);
   Timer timer;
-  const FreeIntrinsics free = FreeIntrinsicsOf(hessians);
   const double median = StartMedianResidual(tracks, initial_poses, motions);
   const double wide_px = options.start_outlier_factor * median;
   if (!(wide_px > lh_options.max_reprojection_px)) {
-    GlobalBAResult r = CheckedRelinearization(tracks, lh_options, initial_poses, motions, hessians, options, callback, gcps);
+    GlobalBAResult r =
+        CheckedRelinearization(tracks, lh_options, initial_poses, motions, hessians, options, callback, gcps);
     r.summary.start_median_px = median;
     return r;
   }
   PGBA_LOG_INFO << "global BA: the start is far from the solution (median reprojection error " << median
                 << " px): first converged with observations up to " << wide_px << " px, then up to "
                 << lh_options.max_reprojection_px << " px";
+  const FreeIntrinsics free = FreeIntrinsicsOf(hessians);
   LocalHessianOptions wide = lh_options;
   wide.max_reprojection_px = wide_px;
   wide.solver.max_iterations = 0;

@@ -8,6 +8,7 @@
 #include "pgba/geometry/rotation.h"
 #include "pgba/geometry/triangulation.h"
 #include "pgba/io/option_ranges.h"
+#include "pgba/util/text_format.h"
 #include "pgba/util/upper_median.h"
 
 namespace pgba {
@@ -60,7 +61,8 @@ std::map<uint32_t, std::vector<size_t>> PairsByImage(const std::vector<TwoViewGe
   return out;
 }
 
-ImageEvidence Evidence(const Reconstruction& tracks, const Correspondences& c, const std::vector<TwoViewGeometry>& pairs,
+ImageEvidence Evidence(const Reconstruction& tracks, const Correspondences& c,
+                       const std::vector<TwoViewGeometry>& pairs,
                        const std::vector<size_t>* own_pairs, const std::map<uint32_t, Pose>& poses, uint32_t image_id,
                        const Pose& pose, const ImageVerificationOptions& options) {
   ImageEvidence e;
@@ -90,12 +92,6 @@ ImageEvidence Evidence(const Reconstruction& tracks, const Correspondences& c, c
   return e;
 }
 
-std::string Fixed(double v, int digits) {
-  char s[32];
-  std::snprintf(s, sizeof(s), "%.*f", digits, v);
-  return s;
-}
-
 }  // namespace
 
 std::string VerificationFailure(const ImageEvidence& e, const ImageVerificationOptions& options) {
@@ -105,11 +101,12 @@ std::string VerificationFailure(const ImageEvidence& e, const ImageVerificationO
            " observations of points seen by two other images and no verified pair with a registered image";
   if (by_points && e.inlier_ratio() < options.min_inlier_ratio)
     return std::to_string(e.inliers) + " of " + std::to_string(e.observations_checked) +
-           " observations reproject within " + Fixed(options.inlier_px, 1) + " px (at least " +
-           Fixed(100.0 * options.min_inlier_ratio, 0) + "% needed)";
+           " observations reproject within " + FormatNumber("%.1f", options.inlier_px) + " px (at least " +
+           FormatNumber("%.0f", 100.0 * options.min_inlier_ratio) + "% needed)";
   if (e.pairs_checked > 0 && e.pair_rotation_deg > options.max_pair_rotation_deg)
     return "its rotation disagrees with its " + std::to_string(e.pairs_checked) + " verified image pairs by " +
-           Fixed(e.pair_rotation_deg, 1) + " deg (median; at most " + Fixed(options.max_pair_rotation_deg, 1) +
+           FormatNumber("%.1f", e.pair_rotation_deg) + " deg (median; at most " +
+           FormatNumber("%.1f", options.max_pair_rotation_deg) +
            " allowed)";
   return "";
 }
