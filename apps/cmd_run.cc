@@ -3,9 +3,11 @@
 //
 // The whole pipeline from a folder of calibrated photos: features, matching, global
 // initialisation, local hessians, pointless global BA. OUT is a resumable workspace (cached
-// features and tracks are reused). Outputs: OUT/sparse/ (COLMAP text model), OUT/points.ply,
-// OUT/report.json, OUT/report.html (open it first) and OUT/log.txt. With --gt, the final
-// poses are evaluated against a ground-truth COLMAP model.
+// features and tracks are reused). Outputs: OUT/sparse/0/, OUT/sparse/1/, ... (one COLMAP text
+// model per component of the view graph, largest first, each with its points.ply), the
+// largest again as OUT/sparse/ and OUT/points.ply, OUT/report.json (every image's fate under
+// "image_fates"), OUT/report.html (open it first) and OUT/log.txt. With --gt, each model's poses
+// are evaluated against a ground-truth COLMAP model with their own similarity.
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -14,6 +16,7 @@
 #include "apps/commands.h"
 #include "apps/output_dir.h"
 #include "benchmark/html_report.h"
+#include "evaluation/model_set_evaluation.h"
 #include "mapper/run_pipeline.h"
 #include "pgba/io/colmap_text.h"
 #include "pgba/io/gcp_file.h"
@@ -70,8 +73,18 @@ void RegisterRun(CLI::App& app) {
       const RunOutput result = RunPipeline(args->images, args->calib, args->out, options, &report);
       const PointlessMapperResult& rec = result.reconstruction;
       WriteWorkspaceFingerprint(out, FingerprintOf(result.tracks, options.reconstruction, /*with_hessians=*/true));
-      EvaluationMetrics metrics = Evaluate(rec.model, result.tracks, args->gt.empty() ? nullptr : &gt, nullptr);
+      // Each model against the ground truth with its own similarity; "evaluation" is the
+      // largest model's, "evaluation_models" every model's images together.
+      const ModelSetEvaluation evaluation =
+          EvaluateModelSet(rec.Models(), result.tracks, args->gt.empty() ? nullptr : &gt);
+      EvaluationMetrics metrics = evaluation.models.front();
       report["evaluation"] = metrics.ToJson();
+      report["evaluation_models"] = evaluation.ToJson();
+      for (size_t m = 0; m < evaluation.models.size() && m < report["models"].size(); ++m)
+        report["models"][m]["evaluation"] = evaluation.models[m].ToJson();
+      for (size_t i = 0; i < evaluation.names.size(); ++i)
+        for (nlohmann::json& fate : report["image_fates"])
+          if (fate["image"] == evaluation.names[i]) fate["rot_err_deg"] = evaluation.rot_err_deg[i];
       // The page shows the report as it will read; report.json is written after the page, so
       // that a failure writing the page (a full disk) leaves no report.json with status ok.
       report["status"] = "ok";
@@ -93,9 +106,19 @@ void RegisterRun(CLI::App& app) {
       WriteStringAtomically((out / "report.html").string(), RunReportHtml(page));
       report.Write((out / "report.json").string());
       metrics.PrintTable(std::cout);
-      std::cout << "pgba run: " << rec.refined.poses.size() << " / " << result.tracks.images.size()
-                << " images registered, " << rec.model.points3D.size() << " points\n"
-                << "report: " << (out / "report.html").string() << "\n";
+      const std::vector<const Reconstruction*> models = rec.Models();
+      std::cout << "pgba run: " << evaluation.images_registered << " / " << result.tracks.images.size()
+                << " images registered in " << models.size() << (models.size() == 1 ? " model, " : " models, ")
+                << rec.model.points3D.size() << " points in the largest\n";
+      for (size_t m = 1; m < models.size(); ++m) {
+        std::cout << "model " << m << ": " << models[m]->images.size() << " images, " << models[m]->points3D.size()
+                  << " points";
+        if (evaluation.models[m].ground_truth && evaluation.models[m].ground_truth->ok)
+          std::cout << ", rotation error vs ground truth median " << evaluation.models[m].ground_truth->rot_err_deg_median
+                    << " deg, max " << evaluation.models[m].ground_truth->rot_err_deg_max << " deg";
+        std::cout << "\n";
+      }
+      std::cout << "report: " << (out / "report.html").string() << "\n";
     } catch (const std::exception& e) {
       RecordFailure(args->out, e, &report);
       SetLogFile("");
