@@ -17,7 +17,8 @@ namespace pgba {
 void WriteGlobalMapperWorkspace(const std::string& workspace, const Reconstruction& tracks,
                                 const GlobalMapperResult& result);
 
-// The artefacts of an earlier `init` or `reconstruct` in `workspace`: WS/pairs.json,
+// The artefacts of an earlier `init` or `reconstruct` in `workspace` (the largest model's: a
+// re-run from a workspace adjusts that model alone, with the images joined to it): WS/pairs.json,
 // WS/triplets.json and the initial poses of WS/init/ (matched to `tracks` by image name), and
 // WS/motions.json with WS/local_hessians.json where present (stage "workspace" of `report`:
 // nothing of steps 1-5 is estimated again). A missing or foreign artefact is an InputError

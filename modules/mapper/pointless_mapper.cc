@@ -144,7 +144,7 @@ void SplitModels(const Reconstruction& tracks, std::vector<GlobalInitResult> mod
   (*report)["images_dropped"] = dropped;
   *initial = std::move(models.front());
   more->clear();
-  for (size_t m = 1; m < models.size(); ++m) more->push_back({std::move(models[m]), {}, {}, {}});
+  for (size_t m = 1; m < models.size(); ++m) more->push_back({std::move(models[m]), {}, {}, {}, {}});
 }
 
 // The image sets of the models, in order (to tell whether joining changed any).
@@ -465,12 +465,29 @@ PointlessMapperResult PointlessMapper::Solve(const Reconstruction& input, Report
         JoinModels(r.refined.cameras.empty() ? tracks() : TracksWithCameras(tracks(), r.refined.cameras),
                    r.initial.pairs, joining_options, r, report, &r.joining);
     if (!models.empty()) {
-      KeepFirstAdjustmentStages(report);
-      r.initial.init = std::move(models.front());
-      r.more_models.clear();
-      for (size_t m = 1; m < models.size(); ++m) r.more_models.push_back({std::move(models[m]), {}, {}, {}});
-      r.hessians = ComputeMotionHessians(tracks(), r.initial.init, options_.refinement, report);
-      AdjustModels(tracks(), r.initial.pairs, options_, gcps ? &*gcps : nullptr, report, &r);
+      // An adjustment that fails with the joined images leaves the first one standing.
+      const PointlessMapperResult first = r;
+      const nlohmann::json stages = (*report)["stages"];
+      try {
+        KeepFirstAdjustmentStages(report);
+        r.initial.init = std::move(models.front());
+        r.more_models.clear();
+        for (size_t m = 1; m < models.size(); ++m) r.more_models.push_back({std::move(models[m]), {}, {}, {}, {}});
+        r.hessians = ComputeMotionHessians(tracks(), r.initial.init, options_.refinement, report);
+        AdjustModels(tracks(), r.initial.pairs, options_, gcps ? &*gcps : nullptr, report, &r);
+      } catch (const InputError& e) {
+        PGBA_LOG_WARN << "the adjustment with the joined images failed, the first one is kept: " << e.what();
+        ComponentJoiningResult joining = std::move(r.joining);
+        r = first;
+        (*report)["stages"] = stages;
+        (*report)["stages"]["components"]["adjustment_failed"] = e.what();
+        // The images that joined are in no model again.
+        for (const auto& [id, registration] : joining.joined)
+          joining.not_joined[id] = std::string("joined, but the adjustment with it failed: ") + e.what();
+        joining.joined.clear();
+        joining.merges.clear();
+        r.joining = std::move(joining);
+      }
     }
   }
   RecordImages(tracks(), r, report);
