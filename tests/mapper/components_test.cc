@@ -202,7 +202,7 @@ TEST(PointlessMapperComponents, ImagesLeftOutJoinByAbsolutePoseAndTheModelStaysA
   EXPECT_LT(e.rot_err_deg_median, 0.3);
   EXPECT_LT(e.rot_err_deg_max, 0.6);
   size_t absolute = 0;
-  for (const nlohmann::json& fate : report.json()["images"]) {
+  for (const nlohmann::json& fate : report.json()["image_fates"]) {
     if (fate["model"].is_null()) {
       EXPECT_NE(fate.value("reason", "").find("absolute pose"), std::string::npos) << fate.dump();
     } else {
