@@ -2,7 +2,8 @@
 //
 // From tracks (a COLMAP text model whose poses and points are ignored) to the final poses:
 // PointlessMapper::Solve (global initialisation, relative motions and their local Hessians,
-// pointless global BA). Writes OUT/sparse/ (COLMAP text model), OUT/points.ply,
+// pointless global BA). Writes OUT/sparse/N/ (one COLMAP text model per component, largest
+// first, each with its points.ply), the largest as OUT/sparse/ and OUT/points.ply,
 // OUT/report.json and the workspace files (OUT/pairs.json, OUT/triplets.json, OUT/init/,
 // OUT/motions.json, OUT/local_hessians.json). With --workspace WS the initialisation (and the
 // motions with their local Hessians, if stored) are read from WS instead. With --gcp, the
@@ -74,8 +75,11 @@ void RegisterReconstruct(CLI::App& app) {
       if (const std::string dropped = DroppedImagesSummary(DroppedImages(tracks, result), tracks.images.size());
           !dropped.empty())
         PGBA_LOG_WARN << dropped;
-      PGBA_LOG_INFO << "wrote " << args->out << "/{sparse/, points.ply, report.json}: " << result.refined.poses.size()
-                    << " / " << tracks.images.size() << " images, " << result.model.points3D.size() << " points";
+      const size_t num_models = result.Models().size();
+      PGBA_LOG_INFO << "wrote " << args->out << "/{sparse/, points.ply, report.json}: "
+                    << report["images_registered"].get<size_t>() << " of " << tracks.images.size() << " images"
+                    << (num_models == 1 ? ", " : " in " + std::to_string(num_models) + " models, ")
+                    << result.model.points3D.size() << (num_models == 1 ? " points" : " points in the largest");
     } catch (const std::exception& e) {
       RecordFailure(args->out, e, &report);
       throw;

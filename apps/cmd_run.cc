@@ -3,17 +3,21 @@
 //
 // The whole pipeline from a folder of calibrated photos: features, matching, global
 // initialisation, local hessians, pointless global BA. OUT is a resumable workspace (cached
-// features and tracks are reused). Outputs: OUT/sparse/ (COLMAP text model), OUT/points.ply,
-// OUT/report.json, OUT/report.html (open it first) and OUT/log.txt. With --gt, the final
-// poses are evaluated against a ground-truth COLMAP model.
+// features and tracks are reused). Outputs: OUT/sparse/0/, OUT/sparse/1/, ... (one COLMAP text
+// model per component of the view graph, largest first, each with its points.ply), the
+// largest again as OUT/sparse/ and OUT/points.ply, OUT/report.json (every image's fate under
+// "image_fates"), OUT/report.html (open it first) and OUT/log.txt. With --gt, each model's poses
+// are evaluated against a ground-truth COLMAP model with their own similarity.
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <string>
 
 #include "apps/commands.h"
 #include "apps/output_dir.h"
 #include "benchmark/html_report.h"
+#include "evaluation/model_set_evaluation.h"
 #include "mapper/run_pipeline.h"
 #include "pgba/io/colmap_text.h"
 #include "pgba/io/gcp_file.h"
@@ -72,16 +76,28 @@ void RegisterRun(CLI::App& app) {
       const RunOutput result = RunPipeline(args->images, args->calib, args->out, options, &report);
       const PointlessMapperResult& rec = result.reconstruction;
       WriteWorkspaceFingerprint(out, FingerprintOf(result.tracks, options.reconstruction, /*with_hessians=*/true));
-      EvaluationMetrics metrics;
+      // Each model against the ground truth with its own similarity; "evaluation" is the
+      // largest model's, "evaluation_models" every model's images together.
+      ModelSetEvaluation evaluation;
       {
         StageTimer timer(&report, "evaluation");
-        metrics = Evaluate(rec.model, result.tracks, args->gt.empty() ? nullptr : &gt, nullptr);
+        evaluation = EvaluateModelSet(rec.Models(), result.tracks, args->gt.empty() ? nullptr : &gt);
       }
+      const EvaluationMetrics& metrics = evaluation.models.front();
       report["evaluation"] = metrics.ToJson();
+      report["evaluation_models"] = evaluation.ToJson();
+      for (size_t m = 0; m < evaluation.models.size() && m < report["models"].size(); ++m)
+        report["models"][m]["evaluation"] = evaluation.models[m].ToJson();
+      std::map<std::string, double> rot_err_deg;
+      for (size_t i = 0; i < evaluation.names.size(); ++i) rot_err_deg[evaluation.names[i]] = evaluation.rot_err_deg[i];
+      for (nlohmann::json& fate : report["image_fates"])
+        if (const auto e = rot_err_deg.find(fate["image"].get<std::string>()); e != rot_err_deg.end())
+          fate["rot_err_deg"] = e->second;
       // The page shows the report as it will read; report.json is written after the page, so
       // that a failure writing the page (a full disk) leaves no report.json with status ok.
       report["status"] = "ok";
       report["seconds"] = run_timer.Seconds();
+      const std::vector<const Reconstruction*> models = rec.Models();
       HtmlReportInput page;
       page.title = "pgba run: " + args->images;
       page.report = &report.json();
@@ -91,15 +107,25 @@ void RegisterRun(CLI::App& app) {
       page.convergence_tracks_total = rec.convergence.tracks_total;
       page.metrics = &metrics;
       // The view graph the reconstruction started from: the pairs the "pairs" stage verified.
-      const ViewGraphPicture view_graph = MakeViewGraphPicture(result.tracks, rec.initial.pairs, rec.model);
+      const ViewGraphPicture view_graph = MakeViewGraphPicture(result.tracks, rec.initial.pairs, models);
       page.view_graph = &view_graph;
       WriteStringAtomically((out / "report.html").string(), RunReportHtml(page));
       report.Write((out / "report.json").string());
       metrics.PrintTable(std::cout);
-      std::cout << "pgba run: " << rec.refined.poses.size() << " of " << result.tracks.images.size()
-                << " images registered, " << rec.model.points3D.size() << " points, "
-                << FormatNumber("%.1f", report["seconds"].get<double>()) << " s\n"
-                << "report: " << (out / "report.html").string() << "\n";
+      std::cout << "pgba run: " << evaluation.images_registered << " of " << result.tracks.images.size()
+                << " images registered"
+                << (models.size() == 1 ? ", " : " in " + std::to_string(models.size()) + " models, ")
+                << rec.model.points3D.size() << (models.size() == 1 ? " points, " : " points in the largest, ")
+                << FormatNumber("%.1f", report["seconds"].get<double>()) << " s\n";
+      for (size_t m = 1; m < models.size(); ++m) {
+        std::cout << "model " << m << ": " << models[m]->images.size() << " images, " << models[m]->points3D.size()
+                  << " points";
+        if (const auto& gt_errors = evaluation.models[m].ground_truth; gt_errors && gt_errors->ok)
+          std::cout << ", rotation error vs ground truth median " << FormatNumber("%.3g", gt_errors->rot_err_deg_median)
+                    << " deg, max " << FormatNumber("%.3g", gt_errors->rot_err_deg_max) << " deg";
+        std::cout << "\n";
+      }
+      std::cout << "report: " << (out / "report.html").string() << "\n";
     } catch (const std::exception& e) {
       RecordFailure(args->out, e, &report);
       SetLogFile("");

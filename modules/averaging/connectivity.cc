@@ -60,7 +60,7 @@ std::set<uint32_t> LargestViewGraphComponent(const std::vector<TwoViewGeometry>&
   return component;
 }
 
-std::vector<int> LargestTripletComponent(const std::vector<LocalMotion>& triplets) {
+std::vector<std::vector<int>> TripletComponents(const std::vector<LocalMotion>& triplets) {
   const int n = static_cast<int>(triplets.size());
   UnionFind uf(n);
   std::map<std::pair<uint32_t, uint32_t>, int> first_with_edge;
@@ -74,31 +74,37 @@ std::vector<int> LargestTripletComponent(const std::vector<LocalMotion>& triplet
         if (!inserted) uf.Union(it->second, t);
       }
   }
-  // Images, triplet count and smallest index per component root.
+  // Members (ascending) and images per component root.
+  std::map<int, std::vector<int>> members;
   std::map<int, std::set<uint32_t>> images;
-  std::map<int, int> count;
-  std::map<int, int> first;
   for (int t = 0; t < n; ++t) {
     if (!HasDistinctImages(triplets[t])) continue;
     const int r = uf.Find(t);
+    members[r].push_back(t);
     images[r].insert(triplets[t].image_ids.begin(), triplets[t].image_ids.end());
-    ++count[r];
-    first.emplace(r, t);
   }
-  int best = -1;
-  for (const auto& [r, imgs] : images) {
-    if (best < 0) {
-      best = r;
-      continue;
-    }
-    const size_t ni = imgs.size(), nb = images[best].size();
-    if (ni > nb || (ni == nb && (count[r] > count[best] || (count[r] == count[best] && first[r] < first[best]))))
-      best = r;
+  std::vector<std::vector<int>> components;
+  std::vector<size_t> num_images;
+  for (auto& [r, m] : members) {
+    components.push_back(std::move(m));
+    num_images.push_back(images[r].size());
   }
-  std::vector<int> kept;
-  for (int t = 0; t < n; ++t)
-    if (HasDistinctImages(triplets[t]) && uf.Find(t) == best) kept.push_back(t);
-  return kept;
+  std::vector<int> order(components.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    if (num_images[a] != num_images[b]) return num_images[a] > num_images[b];
+    if (components[a].size() != components[b].size()) return components[a].size() > components[b].size();
+    return components[a].front() < components[b].front();
+  });
+  std::vector<std::vector<int>> sorted;
+  sorted.reserve(order.size());
+  for (int c : order) sorted.push_back(std::move(components[c]));
+  return sorted;
+}
+
+std::vector<int> LargestTripletComponent(const std::vector<LocalMotion>& triplets) {
+  std::vector<std::vector<int>> components = TripletComponents(triplets);
+  return components.empty() ? std::vector<int>() : std::move(components.front());
 }
 
 std::set<uint32_t> ImagesOfTriplets(const std::vector<LocalMotion>& triplets, const std::vector<int>& indices) {

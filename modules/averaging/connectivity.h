@@ -4,7 +4,8 @@
 // scale, a single shared image does not (the second triplet could still be scaled about that
 // image). The pointless global BA, whose unknowns include one similarity per triplet, is
 // therefore only well posed on a component of this edge-adjacency graph, and so is the
-// triplet translation averaging. Images outside the kept component are dropped and named.
+// triplet translation averaging: each component is initialised and adjusted as a model of
+// its own.
 #pragma once
 
 #include <cstdint>
@@ -43,6 +44,11 @@ std::vector<int> MaximumSpanningForest(int num_nodes, const std::vector<Weighted
 // Images of the largest connected component of the graph whose edges are the pairs (ties:
 // the component containing the smallest image id).
 std::set<uint32_t> LargestViewGraphComponent(const std::vector<TwoViewGeometry>& pairs);
+
+// Every component of the triplet graph with edge adjacency (see above) as the indices
+// (ascending) of its triplets, largest first: covering the most images, then the most
+// triplets, then the smallest triplet index. Triplets with repeated images are in none.
+std::vector<std::vector<int>> TripletComponents(const std::vector<LocalMotion>& triplets);
 
 // Indices (ascending) of the triplets forming the largest component of the triplet graph with
 // edge adjacency (see above), largest = covering the most images; ties: the component with

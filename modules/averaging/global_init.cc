@@ -1,5 +1,6 @@
 #include "averaging/global_init.h"
 
+#include <algorithm>
 #include <array>
 #include <set>
 #include <stdexcept>
@@ -254,6 +255,33 @@ GlobalInitResult RunGlobalInitialisation(const Reconstruction& tracks, const std
                 << " outside the component, " << stats.triplets_rotation_outliers << " rotation outliers, "
                 << stats.triplets_centre_outliers << " centre outliers)";
   return finish(true, "ok");
+}
+
+std::vector<GlobalInitResult> InitialiseComponents(const Reconstruction& tracks,
+                                                   const std::vector<TwoViewGeometry>& pairs,
+                                                   const std::vector<LocalMotion>& triplets,
+                                                   const GlobalInitOptions& options,
+                                                   const std::vector<LocalMotion>* rotation_measurements) {
+  if (rotation_measurements && rotation_measurements->size() != triplets.size())
+    throw std::invalid_argument("InitialiseComponents: rotation measurements not aligned with the triplets");
+  CheckImageIds(tracks, pairs, triplets);
+  const std::vector<std::vector<int>> components = TripletComponents(triplets);
+  std::vector<GlobalInitResult> results;
+  for (const std::vector<int>& component : components) {
+    const std::set<uint32_t> images = ImagesOfTriplets(triplets, component);
+    std::vector<LocalMotion> measured;
+    if (rotation_measurements) measured = Select(*rotation_measurements, component);
+    PGBA_LOG_DEBUG << "triplet component " << results.size() << ": " << images.size() << " images, "
+                  << component.size() << " triplets";
+    results.push_back(RunGlobalInitialisation(tracks, PairsWithin(pairs, images), Select(triplets, component), options,
+                                              rotation_measurements ? &measured : nullptr));
+  }
+  if (results.empty()) results.push_back(RunGlobalInitialisation(tracks, pairs, {}, options));
+  std::stable_sort(results.begin(), results.end(), [](const GlobalInitResult& a, const GlobalInitResult& b) {
+    if (a.success != b.success) return a.success;
+    return a.poses.size() > b.poses.size();
+  });
+  return results;
 }
 
 nlohmann::json GlobalInitReport(const GlobalInitResult& result) {

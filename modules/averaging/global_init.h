@@ -1,6 +1,6 @@
 // Global initialisation from relative motions (the `pgba init` stage after pairs and
 // triplets): rotation averaging, translation averaging and the triplets' global->local
-// similarities, on the largest triplet component.
+// similarities, on the largest triplet component (InitialiseComponents: on each component).
 //
 //   0. unusable pairs and triplets (repeated images, non-finite values, no baseline) are
 //      ignored and counted;
@@ -103,6 +103,17 @@ struct GlobalInitResult {
 GlobalInitResult RunGlobalInitialisation(const Reconstruction& tracks, const std::vector<TwoViewGeometry>& pairs,
                                          const std::vector<LocalMotion>& triplets, const GlobalInitOptions& options,
                                          const std::vector<LocalMotion>* rotation_measurements = nullptr);
+
+// Every component of the triplet graph (TripletComponents, connectivity.h) initialised on its
+// own: RunGlobalInitialisation on the component's triplets and the pairs between its images,
+// one result per component (a model of its own), the successful ones first, then by images
+// registered (most first), then by component order. A result's images_dropped lists every
+// image of `tracks` it does not hold. Same throws as RunGlobalInitialisation.
+std::vector<GlobalInitResult> InitialiseComponents(const Reconstruction& tracks,
+                                                   const std::vector<TwoViewGeometry>& pairs,
+                                                   const std::vector<LocalMotion>& triplets,
+                                                   const GlobalInitOptions& options,
+                                                   const std::vector<LocalMotion>* rotation_measurements = nullptr);
 
 // The stage's entry of report.json: {"seconds", "images_registered", "images_dropped": [names],
 // "triplets_kept", "triplets_dropped": {reason: count}, "rotation": {...}, "translation": {...}}.

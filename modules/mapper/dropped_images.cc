@@ -1,6 +1,7 @@
 #include "mapper/dropped_images.h"
 
 #include <algorithm>
+#include <map>
 #include <set>
 
 namespace pgba {
@@ -8,26 +9,39 @@ namespace pgba {
 std::vector<DroppedImage> DroppedImages(const Reconstruction& tracks, const PointlessMapperResult& result) {
   std::set<uint32_t> paired;
   for (const TwoViewGeometry& p : result.initial.pairs) paired.insert(p.image_id1), paired.insert(p.image_id2);
+  // Initialised: in the largest model's initial poses or not left out by it, or in another
+  // model's initial poses.
   const std::vector<uint32_t>& init_dropped = result.initial.init.dropped_image_ids;
-  const std::vector<ImageVerdict>& verdicts = result.verification.verdicts;
+  const auto initialised = [&](uint32_t id) {
+    if (std::find(init_dropped.begin(), init_dropped.end(), id) == init_dropped.end()) return true;
+    return std::any_of(result.more_models.begin(), result.more_models.end(),
+                       [&](const ComponentModel& m) { return m.init.poses.count(id) > 0; });
+  };
+  std::map<uint32_t, const ImageVerdict*> failed;
+  for (const ImageVerificationResult* v : result.Verifications())
+    for (const ImageVerdict& d : v->verdicts)
+      if (d.status == ImageVerdictStatus::kDropped) failed[d.image_id] = &d;
   std::vector<DroppedImage> out;
   for (const auto& [id, image] : tracks.images) {
-    if (result.refined.poses.count(id)) continue;
+    if (result.Placed(id)) continue;
     const bool observed = std::any_of(image.points2D.begin(), image.points2D.end(),
                                       [](const Point2D& p) { return p.point3D_id != kNoPoint3D; });
+    const auto not_joined = result.joining.not_joined.find(id);
+    const std::string why_not_joined =
+        not_joined == result.joining.not_joined.end() ? std::string() : not_joined->second;
     std::string reason;
     if (!observed) {
       reason = "no feature matched to another image";
     } else if (!paired.count(id)) {
       reason = "no image pair verified (too few matches agreeing on one relative pose)";
-    } else if (std::find(init_dropped.begin(), init_dropped.end(), id) != init_dropped.end()) {
-      reason = "not connected to the others by consistent image triplets";
-    } else if (const auto v = std::find_if(verdicts.begin(), verdicts.end(),
-                                           [&](const ImageVerdict& d) {
-                                             return d.image_id == id && d.status == ImageVerdictStatus::kDropped;
-                                           });
-               v != verdicts.end()) {
-      reason = "its pose failed the final check against the points" + (v->reason.empty() ? "" : " (" + v->reason + ")");
+    } else if (const auto v = failed.find(id); v != failed.end()) {
+      reason = "its pose failed the final check against the points" +
+               (v->second->reason.empty() ? "" : " (" + v->second->reason + ")");
+    } else if (!initialised(id)) {
+      reason = "not connected to the others by consistent image triplets" +
+               (why_not_joined.empty() ? "" : "; " + why_not_joined);
+    } else if (!why_not_joined.empty()) {
+      reason = why_not_joined;
     } else {
       reason = "its triplets were unusable in the global bundle adjustment";
     }

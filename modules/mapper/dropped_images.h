@@ -15,9 +15,10 @@ struct DroppedImage {
   std::string reason;
 };
 
-// The images of `tracks` without a pose in `result.refined.poses`, in name order, each with
-// the first reason that applies: no track, no verified pair, left out by the global
-// initialisation, dropped by the final verification of the poses, left out by the global BA.
+// The images of `tracks` in no model of `result`, in name order, each with the first reason
+// that applies: no track, no verified pair, dropped by a model's final verification, in no
+// component of the triplet graph (with why absolute pose could not join it), its model not
+// adjusted, left out by the global BA.
 std::vector<DroppedImage> DroppedImages(const Reconstruction& tracks, const PointlessMapperResult& result);
 
 // One line: how many of `num_images` were left out, their names grouped by reason, and what to

@@ -80,8 +80,15 @@ void WriteReconstruction(const std::string& out, const Reconstruction& tracks, c
   WriteMotions(WorkspaceMotionsPath(out), tracks,
                {result.hessians.motions, result.hessians.triplet_rotation_misfit, result.hessians.linearization_poses});
   WriteLocalHessians(WorkspaceLocalHessiansPath(out), tracks, result.hessians.result);
-  WriteColmapText(result.model, (fs::path(out) / "sparse").string());
+  const fs::path sparse = fs::path(out) / "sparse";
+  WriteColmapText(result.model, sparse.string());
   WritePly(result.model, (fs::path(out) / "points.ply").string());
+  const std::vector<const Reconstruction*> models = result.Models();
+  for (size_t m = 0; m < models.size(); ++m) {
+    const fs::path dir = sparse / std::to_string(m);
+    WriteColmapText(*models[m], dir.string());
+    WritePly(*models[m], (dir / "points.ply").string());
+  }
 }
 
 }  // namespace pgba

@@ -2,7 +2,8 @@
 // writes, and the reading back that lets a re-run start after them.
 //   steps 1-4: pairs.json, triplets.json (kept triplets with their similarities), init/
 //   step 5:    motions.json (the relative motions as linearised), local_hessians.json
-//   step 8:    sparse/ (COLMAP text model), points.ply
+//   step 8:    sparse/0/, sparse/1/, ... (every model, largest first, as COLMAP text with its
+//              points.ply), and the largest model again as sparse/ and points.ply
 #pragma once
 
 #include <string>
@@ -16,7 +17,8 @@ namespace pgba {
 void WriteGlobalMapperWorkspace(const std::string& workspace, const Reconstruction& tracks,
                                 const GlobalMapperResult& result);
 
-// The artefacts of an earlier `init` or `reconstruct` in `workspace`: WS/pairs.json,
+// The artefacts of an earlier `init` or `reconstruct` in `workspace` (the largest model's: a
+// re-run from a workspace adjusts that model alone, with the images joined to it): WS/pairs.json,
 // WS/triplets.json and the initial poses of WS/init/ (matched to `tracks` by image name), and
 // WS/motions.json with WS/local_hessians.json where present (stage "workspace" of `report`:
 // nothing of steps 1-5 is estimated again). A missing or foreign artefact is an InputError
@@ -25,7 +27,8 @@ PointlessMapperResult ReadMapperWorkspace(const Reconstruction& tracks, const st
                                           const PointlessMapperOptions& options, Report* report);
 
 // The workspace of `init` (WriteGlobalMapperWorkspace), OUT/motions.json,
-// OUT/local_hessians.json, OUT/sparse/ and OUT/points.ply.
+// OUT/local_hessians.json (the largest model's), OUT/sparse/N/ with OUT/sparse/N/points.ply for
+// every model N (largest first), and the largest model as OUT/sparse/ and OUT/points.ply.
 void WriteReconstruction(const std::string& out, const Reconstruction& tracks, const PointlessMapperResult& result);
 
 }  // namespace pgba

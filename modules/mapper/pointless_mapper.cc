@@ -1,8 +1,10 @@
 #include "mapper/pointless_mapper.h"
 
 #include <algorithm>
+#include <map>
 #include <cstdio>
 #include <optional>
+#include <set>
 #include <stdexcept>
 #include <utility>
 
@@ -95,15 +97,16 @@ std::vector<LocalMotion> EstimateTriplets(const Reconstruction& tracks, const st
   return triplets;
 }
 
-// Step 4: rotation and translation averaging over the triplets; each kept triplet gets its
-// global->local similarity. With `outliers` (the sensitivity experiment) the relative rotations
-// averaged are corrupted first.
-GlobalInitResult AverageMotions(const Reconstruction& tracks, const std::vector<TwoViewGeometry>& pairs,
-                                const std::vector<LocalMotion>& triplets, const GlobalInitOptions& options,
-                                const OutlierInjectionOptions& outliers, Report* report,
-                                OutlierInjectionResult* injected) {
+// Step 4: rotation and translation averaging over the triplets of each component of the
+// triplet graph; each kept triplet gets its global->local similarity. With `outliers` (the
+// sensitivity experiment) the relative rotations averaged are corrupted first. The models
+// that succeed, largest first (at least one: InputError otherwise).
+std::vector<GlobalInitResult> AverageMotions(const Reconstruction& tracks, const std::vector<TwoViewGeometry>& pairs,
+                                             const std::vector<LocalMotion>& triplets,
+                                             const GlobalInitOptions& options, const OutlierInjectionOptions& outliers,
+                                             Report* report, OutlierInjectionResult* injected) {
   StageTimer timer(report, "global_init");
-  GlobalInitResult init;
+  std::vector<GlobalInitResult> models;
   if (outliers.fraction > 0.0) {
     const CorruptedRelativeMotions c = CorruptRelativeMotions(outliers, pairs, triplets);
     *injected = c.injected;
@@ -111,24 +114,109 @@ GlobalInitResult AverageMotions(const Reconstruction& tracks, const std::vector<
                   << (outliers.triplet_corruption == TripletCorruption::kLocalPoses ? " triplets (local poses)"
                                                                                    : " triplets (their relative rotations)")
                   << " given random rotations";
-    init = RunGlobalInitialisation(tracks, c.pairs, c.triplets, options, &c.rotation_measurements);
+    models = InitialiseComponents(tracks, c.pairs, c.triplets, options, &c.rotation_measurements);
   } else {
-    init = RunGlobalInitialisation(tracks, pairs, triplets, options);
+    models = InitialiseComponents(tracks, pairs, triplets, options);
   }
+  const GlobalInitResult& init = models.front();
   nlohmann::json& stage = timer.Stop();
   stage.update(GlobalInitReport(init));
   stage["outliers_injected"] = {{"pairs", injected->pairs.size()}, {"triplets", injected->triplets.size()}};
+  stage["components"] = nlohmann::json::array();
+  for (const GlobalInitResult& m : models) stage["components"].push_back(GlobalInitReport(m));
   if (!init.success) throw InputError("tracks: global initialisation failed: " + init.message);
-  (*report)["images_input"] = tracks.images.size();
-  (*report)["images_registered"] = init.poses.size();
-  (*report)["images_dropped"] = init.images_dropped;
-  PGBA_LOG_INFO << "initial poses (rotation and translation averaging): " << init.poses.size() << " of "
-                << tracks.images.size() << " images"
-                << (init.images_dropped.empty() ? "" : " (the others are listed at the end)") << ", from "
-                << init.triplets.size() << (init.triplets.size() == 1 ? " triplet" : " triplets") << " agreeing to "
-                << FormatNumber("%.2g", init.stats.rotation.residual_median_deg) << " deg (median), "
+  models.erase(std::remove_if(models.begin(), models.end(), [](const GlobalInitResult& m) { return !m.success; }),
+               models.end());
+  size_t placed = 0, num_triplets = 0;
+  std::string sizes;
+  for (const GlobalInitResult& m : models) {
+    placed += m.poses.size();
+    num_triplets += m.triplets.size();
+    sizes += (sizes.empty() ? "" : " + ") + std::to_string(m.poses.size());
+  }
+  PGBA_LOG_INFO << "initial poses (rotation and translation averaging): " << placed << " of " << tracks.images.size()
+                << " images" << (models.size() > 1 ? " in " + std::to_string(models.size()) + " models (" + sizes + ")" : "")
+                << (placed < tracks.images.size() ? " (the others are listed at the end)" : "") << ", from "
+                << num_triplets << (num_triplets == 1 ? " triplet" : " triplets") << " agreeing to "
+                << FormatNumber("%.2g", init.stats.rotation.residual_median_deg) << " deg (median, largest model), "
                 << FormatNumber("%.1f", stage["seconds"].get<double>()) << " s";
-  return init;
+  return models;
+}
+
+// Step 4, continued: the largest model into `initial`, the others into `more`; the report's
+// image counts over all of them.
+void SplitModels(const Reconstruction& tracks, std::vector<GlobalInitResult> models, Report* report,
+                 GlobalInitResult* initial, std::vector<ComponentModel>* more) {
+  std::vector<std::string> dropped;
+  size_t registered = 0;
+  for (const auto& [id, image] : tracks.images) {
+    const bool placed = std::any_of(models.begin(), models.end(), [&](const auto& m) { return m.poses.count(id); });
+    registered += placed;
+    if (!placed) dropped.push_back(image.name);
+  }
+  (*report)["images_input"] = tracks.images.size();
+  (*report)["images_registered"] = registered;
+  (*report)["images_dropped"] = dropped;
+  *initial = std::move(models.front());
+  more->clear();
+  for (size_t m = 1; m < models.size(); ++m) more->push_back({std::move(models[m]), {}, {}, {}, {}});
+}
+
+// The image sets of the models, in order (to tell whether joining changed any).
+std::vector<std::set<uint32_t>> ImageSets(const std::vector<GlobalInitResult>& models) {
+  std::vector<std::set<uint32_t>> sets;
+  for (const GlobalInitResult& m : models) {
+    sets.emplace_back();
+    for (const auto& [id, pose] : m.poses) sets.back().insert(id);
+  }
+  return sets;
+}
+
+// A model's adjusted poses as the start of its next adjustment: its initialisation with the
+// final poses (images the BA left out removed with their triplets).
+GlobalInitResult AdjustedStart(const GlobalInitResult& init, const std::map<uint32_t, Pose>& poses) {
+  GlobalInitResult start = init;
+  start.poses = poses;
+  std::vector<LocalMotion> triplets;
+  for (const LocalMotion& t : init.triplets)
+    if (std::all_of(t.image_ids.begin(), t.image_ids.end(), [&](uint32_t id) { return poses.count(id); }))
+      triplets.push_back(t);
+  start.triplets = std::move(triplets);
+  return start;
+}
+
+// Step 10: the images left out joined by absolute pose against the adjusted models' points, the
+// models merged where they share points (components.h). Returns the models to adjust again
+// (empty when nothing changed).
+std::vector<GlobalInitResult> JoinModels(const Reconstruction& tracks, const std::vector<TwoViewGeometry>& pairs,
+                                         const ComponentJoiningOptions& options, const PointlessMapperResult& r,
+                                         Report* report, ComponentJoiningResult* joining) {
+  StageTimer timer(report, "components");
+  std::vector<GlobalInitResult> models = {AdjustedStart(r.initial.init, r.refined.poses)};
+  for (const ComponentModel& m : r.more_models) models.push_back(AdjustedStart(m.init, m.refined.poses));
+  const std::vector<std::set<uint32_t>> before = ImageSets(models);
+  *joining = JoinComponents(tracks, pairs, options, &models);
+  nlohmann::json& stage = timer.Stop();
+  stage.update(joining->ToJson(tracks));
+  stage["models"] = nlohmann::json::array();
+  for (const GlobalInitResult& m : models) stage["models"].push_back(m.poses.size());
+  for (const auto& [id, reason] : joining->not_joined)
+    PGBA_LOG_WARN << "image " << tracks.images.at(id).name << " in no model: " << reason;
+  PGBA_LOG_INFO << "models: " << models.size() << ", " << joining->joined.size()
+                << " images joined by absolute pose, " << joining->merges.size() << " merges";
+  if (ImageSets(models) == before) return {};
+  return models;
+}
+
+// The stages of an adjustment that is done again, kept under "NAME_before_joining".
+void KeepFirstAdjustmentStages(Report* report) {
+  nlohmann::json& stages = (*report)["stages"];
+  for (const char* name :
+       {"local_hessians", "global_ba", "gcp_check", "convergence", "verification", "triangulation", "more_models"})
+    if (stages.contains(name)) {
+      stages[std::string(name) + "_before_joining"] = stages[name];
+      stages.erase(name);
+    }
 }
 
 // Step 5: the relative motions and their local Hessians.
@@ -212,15 +300,16 @@ void CheckFinalGcps(const GcpInput& gcps, const std::map<uint32_t, Pose>& poses,
 
 // Step 8: every registered image verified; the failing ones registered again or dropped.
 void VerifyImages(const Reconstruction& tracks, const std::vector<TwoViewGeometry>& pairs,
-                  const ImageVerificationOptions& options, Report* report, PointlessMapperResult* r) {
+                  const ImageVerificationOptions& options, Report* report, RefinementResult* refined,
+                  ImageVerificationResult* verification) {
   if (!options.enabled) return;
   StageTimer timer(report, "verification");
-  const Reconstruction calibrated = r->refined.cameras.empty() ? Reconstruction() : TracksWithCameras(tracks, r->refined.cameras);
-  const Reconstruction& t = r->refined.cameras.empty() ? tracks : calibrated;
-  r->verification = VerifyRegisteredImages(t, pairs, r->refined.poses, options);
-  timer.Stop().update(r->verification.ToJson(tracks));
-  r->refined.poses = r->verification.poses;
-  const ImageVerificationResult& v = r->verification;
+  const Reconstruction calibrated = refined->cameras.empty() ? Reconstruction() : TracksWithCameras(tracks, refined->cameras);
+  const Reconstruction& t = refined->cameras.empty() ? tracks : calibrated;
+  *verification = VerifyRegisteredImages(t, pairs, refined->poses, options);
+  timer.Stop().update(verification->ToJson(tracks));
+  refined->poses = verification->poses;
+  const ImageVerificationResult& v = *verification;
   PGBA_LOG_INFO << "verification: " << v.verdicts.size() - v.num_reregistered - v.num_dropped << " of "
                 << v.verdicts.size() << " images agree with their observations and verified pairs"
                 << (v.num_reregistered ? ", " + std::to_string(v.num_reregistered) + " registered again" : "")
@@ -251,17 +340,98 @@ Reconstruction Triangulate(const Reconstruction& tracks, const RefinementResult&
 
 // The images of the result and the ones left out on the way (report keys).
 void RecordImages(const Reconstruction& tracks, const PointlessMapperResult& r, Report* report) {
-  std::vector<std::string> dropped = r.initial.init.images_dropped;
-  for (uint32_t id : r.refined.excluded_images) dropped.push_back(tracks.images.at(id).name);
-  for (const ImageVerdict& v : r.verification.verdicts)
-    if (v.status == ImageVerdictStatus::kDropped) dropped.push_back(tracks.images.at(v.image_id).name);
-  // The commands print the list once, at their end (a run may reconstruct twice).
+  // The commands print the images left out once, at their end (a run may reconstruct twice).
   const std::string summary = DroppedImagesSummary(DroppedImages(tracks, r), tracks.images.size());
   if (!summary.empty()) PGBA_LOG_DEBUG << summary;
+  const nlohmann::json fates = ImageFates(tracks, r);
+  std::vector<std::string> dropped;
+  size_t registered = 0;
+  for (const nlohmann::json& f : fates) {
+    if (f["model"].is_null()) {
+      dropped.push_back(f["image"]);
+    } else {
+      ++registered;
+    }
+  }
   (*report)["images_input"] = tracks.images.size();
-  (*report)["images_registered"] = r.refined.poses.size();
+  (*report)["images_registered"] = registered;
   (*report)["images_dropped"] = dropped;
+  (*report)["image_fates"] = fates;
   (*report)["params"] = r.refined.num_params;
+  nlohmann::json models = nlohmann::json::array();
+  const std::vector<const Reconstruction*> all = r.Models();
+  for (size_t m = 0; m < all.size(); ++m) {
+    size_t absolute = 0;
+    for (const auto& [id, image] : all[m]->images) absolute += r.joining.joined.count(id);
+    models.push_back({{"model", m},
+                      {"images_registered", all[m]->images.size()},
+                      {"by_absolute_pose", absolute},
+                      {"points", all[m]->points3D.size()}});
+  }
+  (*report)["models"] = models;
+}
+
+// Steps 5 and 7-9 for a model beyond the largest, timed in `report`'s stage "more_models".
+void AdjustModel(const Reconstruction& tracks, const std::vector<TwoViewGeometry>& pairs,
+                 const PointlessMapperOptions& options, ComponentModel* m, nlohmann::json* record) {
+  Report scratch;
+  m->hessians = ComputeMotionHessians(tracks, m->init, options.refinement, &scratch);
+  m->refined = AdjustPointless(tracks, m->init, m->hessians, options, nullptr, &scratch);
+  m->refined.history.clear();
+  VerifyImages(tracks, pairs, options.verification, &scratch, &m->refined, &m->verification);
+  m->model = Triangulate(tracks, m->refined, &scratch);
+  *record = {{"images", m->init.poses.size()},
+             {"images_registered", m->refined.poses.size()},
+             {"points", m->model.points3D.size()},
+             {"stages", scratch.json()["stages"]}};
+}
+
+// Steps 7-9 of the largest model (its step 5 done, in the GCP frame with `gcps`), then steps
+// 5 and 7-9 of the others (stage "more_models"); a smaller model that cannot be adjusted is
+// dropped, its images named.
+void AdjustModels(const Reconstruction& tracks, const std::vector<TwoViewGeometry>& pairs,
+                  const PointlessMapperOptions& options, const GcpInput* gcps, Report* report,
+                  PointlessMapperResult* r) {
+  // 7. Pointless global BA, re-linearised at its solution.
+  r->refined = AdjustPointless(tracks, r->initial.init, r->hessians, options, gcps, report);
+  if (gcps) CheckFinalGcps(*gcps, r->refined.poses, report);
+  if (options.record_convergence) {
+    StageTimer timer(report, "convergence");
+    r->convergence = EvaluateConvergence(tracks, r->refined.history, options.convergence);
+    timer.Stop().update(r->convergence.ToJson());
+  }
+  r->refined.history.clear();
+  // 8. Every registered image verified; a failing one registered again or dropped.
+  VerifyImages(tracks, pairs, options.verification, report, &r->refined, &r->verification);
+  // 9. Points triangulated with the final poses.
+  r->model = Triangulate(tracks, r->refined, report);
+  // Steps 5, 7 and 8 for the other models.
+  if (r->more_models.empty()) return;
+  StageTimer timer(report, "more_models");
+  nlohmann::json records = nlohmann::json::array();
+  std::vector<ComponentModel> adjusted;
+  for (ComponentModel& m : r->more_models) {
+    nlohmann::json record;
+    try {
+      AdjustModel(tracks, pairs, options, &m, &record);
+      adjusted.push_back(std::move(m));
+    } catch (const InputError& e) {
+      // A smaller model that cannot be adjusted leaves its images without a model; the
+      // others stand.
+      record = {{"images", m.init.poses.size()}, {"failed", e.what()}};
+      for (const auto& [id, pose] : m.init.poses)
+        r->joining.not_joined[id] =
+            "its model (" + std::to_string(m.init.poses.size()) + " images) could not be adjusted: " + e.what();
+      PGBA_LOG_WARN << "a model of " << m.init.poses.size() << " images is dropped: " << e.what();
+    }
+    records.push_back(record);
+  }
+  r->more_models = std::move(adjusted);
+  std::stable_sort(r->more_models.begin(), r->more_models.end(),
+                   [](const ComponentModel& a, const ComponentModel& b) {
+                     return a.model.images.size() > b.model.images.size();
+                   });
+  timer.Stop()["models"] = records;
 }
 
 }  // namespace
@@ -277,6 +447,7 @@ PointlessMapperResult PointlessMapper::Solve(const Reconstruction& input, Report
   // The tracks with the cameras of step 2 (a copy only when a focal changed).
   std::optional<Reconstruction> recalibrated;
   const auto tracks = [&]() -> const Reconstruction& { return recalibrated ? *recalibrated : input; };
+  const bool ran_initialisation = !r.initial.init.success;
   if (!r.initial.init.success) {
     if (input.images.size() < 3)
       throw InputError("tracks: at least 3 images are needed, got " + std::to_string(input.images.size()));
@@ -297,8 +468,9 @@ PointlessMapperResult PointlessMapper::Solve(const Reconstruction& input, Report
       triplet_options.refine_intrinsics = true;
     const std::vector<LocalMotion> triplets = EstimateTriplets(tracks(), r.initial.pairs, triplet_options, report);
     // 4. Rotation and translation averaging: the initial poses.
-    r.initial.init = AverageMotions(tracks(), r.initial.pairs, triplets, o.global_init, o.rotation_outliers, report,
-                                    &r.initial.outliers_injected);
+    std::vector<GlobalInitResult> models = AverageMotions(tracks(), r.initial.pairs, triplets, o.global_init,
+                                                          o.rotation_outliers, report, &r.initial.outliers_injected);
+    SplitModels(tracks(), std::move(models), report, &r.initial.init, &r.more_models);
   } else if (CamerasChanged(input, r.initial.cameras)) {
     recalibrated = TracksWithCameras(input, r.initial.cameras);
   }
@@ -308,21 +480,93 @@ PointlessMapperResult PointlessMapper::Solve(const Reconstruction& input, Report
   if (r.hessians.motions.empty()) r.hessians = ComputeMotionHessians(tracks(), r.initial.init, options_.refinement, report);
   // 6. GCPs: the initial solution in their frame.
   const std::optional<GcpInput> gcps = TransferToGcpFrame(tracks(), options_, report, &r.initial.init);
-  // 7. Pointless global BA, re-linearised at its solution.
-  r.refined = AdjustPointless(tracks(), r.initial.init, r.hessians, options_, gcps ? &*gcps : nullptr, report);
-  if (gcps) CheckFinalGcps(*gcps, r.refined.poses, report);
-  if (options_.record_convergence) {
-    StageTimer timer(report, "convergence");
-    r.convergence = EvaluateConvergence(tracks(), r.refined.history, options_.convergence);
-    timer.Stop().update(r.convergence.ToJson());
+  // 7. Pointless global BA, re-linearised at its solution until converged; 8. every registered
+  //    image verified, a failing one registered again or dropped; 9. points triangulated with
+  //    the final poses. For every model (the others with their own step 5).
+  AdjustModels(tracks(), r.initial.pairs, options_, gcps ? &*gcps : nullptr, report, &r);
+  // 10. Images left out joined by absolute pose against the models' points, models merged
+  //     where they share points; the models that changed adjusted again (steps 5, 7-9) from
+  //     their adjusted poses, with their joined images.
+  if (ran_initialisation) {
+    // A joined image passes the verification every registered image passes; the points with
+    // the cameras of the adjustment (self-calibration's where it ran).
+    ComponentJoiningOptions joining_options = options_.components;
+    joining_options.registration.verification = options_.verification;
+    std::vector<GlobalInitResult> models =
+        JoinModels(r.refined.cameras.empty() ? tracks() : TracksWithCameras(tracks(), r.refined.cameras),
+                   r.initial.pairs, joining_options, r, report, &r.joining);
+    if (!models.empty()) {
+      // An adjustment that fails with the joined images leaves the first one standing.
+      const PointlessMapperResult first = r;
+      const nlohmann::json stages = (*report)["stages"];
+      try {
+        KeepFirstAdjustmentStages(report);
+        r.initial.init = std::move(models.front());
+        r.more_models.clear();
+        for (size_t m = 1; m < models.size(); ++m) r.more_models.push_back({std::move(models[m]), {}, {}, {}, {}});
+        r.hessians = ComputeMotionHessians(tracks(), r.initial.init, options_.refinement, report);
+        AdjustModels(tracks(), r.initial.pairs, options_, gcps ? &*gcps : nullptr, report, &r);
+      } catch (const InputError& e) {
+        PGBA_LOG_WARN << "the adjustment with the joined images failed, the first one is kept: " << e.what();
+        ComponentJoiningResult joining = std::move(r.joining);
+        r = first;
+        (*report)["stages"] = stages;
+        (*report)["stages"]["components"]["adjustment_failed"] = e.what();
+        // The images that joined are in no model again.
+        for (const auto& [id, registration] : joining.joined)
+          joining.not_joined[id] = std::string("joined, but the adjustment with it failed: ") + e.what();
+        joining.joined.clear();
+        joining.merges.clear();
+        r.joining = std::move(joining);
+      }
+    }
   }
-  r.refined.history.clear();
-  // 8. Every registered image verified; a failing one registered again or dropped.
-  VerifyImages(tracks(), r.initial.pairs, options_.verification, report, &r);
-  // 9. Points triangulated with the final poses.
-  r.model = Triangulate(tracks(), r.refined, report);
   RecordImages(tracks(), r, report);
   return r;
+}
+
+std::vector<const Reconstruction*> PointlessMapperResult::Models() const {
+  std::vector<const Reconstruction*> models = {&model};
+  for (const ComponentModel& m : more_models) models.push_back(&m.model);
+  return models;
+}
+
+std::vector<const ImageVerificationResult*> PointlessMapperResult::Verifications() const {
+  std::vector<const ImageVerificationResult*> verifications = {&verification};
+  for (const ComponentModel& m : more_models) verifications.push_back(&m.verification);
+  return verifications;
+}
+
+bool PointlessMapperResult::Placed(uint32_t image_id) const {
+  if (refined.poses.count(image_id)) return true;
+  return std::any_of(more_models.begin(), more_models.end(),
+                     [&](const ComponentModel& m) { return m.refined.poses.count(image_id) > 0; });
+}
+
+nlohmann::json ImageFates(const Reconstruction& tracks, const PointlessMapperResult& r) {
+  const std::vector<const Reconstruction*> models = r.Models();
+  std::map<std::string, std::string> reasons;
+  for (const DroppedImage& d : DroppedImages(tracks, r)) reasons[d.name] = d.reason;
+  std::map<uint32_t, const ImageVerdict*> reregistered;
+  for (const ImageVerificationResult* v : r.Verifications())
+    for (const ImageVerdict& d : v->verdicts)
+      if (d.status == ImageVerdictStatus::kReregistered) reregistered[d.image_id] = &d;
+  nlohmann::json fates = nlohmann::json::array();
+  for (const auto& [id, image] : tracks.images) {
+    nlohmann::json f = {{"image", image.name}, {"model", nullptr}};
+    for (size_t m = 0; m < models.size() && f["model"].is_null(); ++m)
+      if (models[m]->images.count(id)) {
+        f["model"] = m;
+        f["registered_by"] = r.joining.joined.count(id) ? "absolute_pose" : "triplets";
+        if (const auto v = reregistered.find(id); v != reregistered.end()) f["registered_again"] = v->second->reason;
+      }
+    if (f["model"].is_null()) {
+      const auto reason = reasons.find(image.name);
+      f["reason"] = reason != reasons.end() ? reason->second : "in no model";
+    }
+    fates.push_back(f);
+  }
+  return fates;
 }
 
 GlobalMapperResult RunGlobalMapper(const Reconstruction& tracks, const GlobalMapperOptions& options, Report* report,

@@ -44,6 +44,21 @@ TEST(Connectivity, LargestTripletComponentCountsImages) {
   EXPECT_EQ(LargestTripletComponent(triplets), (std::vector<int>{2, 3, 4}));
 }
 
+TEST(Connectivity, EveryTripletComponentLargestFirst) {
+  // {1..5} over three triplets (one sharing only image 5 with them forms its own component
+  // {5,6,7}); {8,9,10}; (11,11,12) is in none. Equal image counts: more triplets first, then
+  // the smaller first index.
+  const std::vector<LocalMotion> triplets = {T(5, 6, 7), T(1, 2, 3), T(8, 9, 10), T(4, 3, 2), T(11, 11, 12), T(3, 5, 4)};
+  const std::vector<std::vector<int>> components = TripletComponents(triplets);
+  ASSERT_EQ(components.size(), 3u);
+  EXPECT_EQ(components[0], (std::vector<int>{1, 3, 5}));
+  EXPECT_EQ(components[1], (std::vector<int>{0}));
+  EXPECT_EQ(components[2], (std::vector<int>{2}));
+  EXPECT_EQ(components[0], LargestTripletComponent(triplets));
+  EXPECT_TRUE(TripletComponents({}).empty());
+  EXPECT_TRUE(TripletComponents({T(1, 1, 2)}).empty());
+}
+
 TEST(Connectivity, MaximumSpanningForest) {
   // Square 0-1-2-3 with a diagonal; the lightest cycle edges are left out; node 4 isolated.
   const std::vector<WeightedEdge> edges = {{0, 1, 5}, {1, 2, 1}, {2, 3, 4}, {3, 0, 3}, {0, 2, 2}, {1, 1, 9}};

@@ -210,8 +210,9 @@ TEST(GlobalMapper, Deterministic) {
 
 // Tracks whose view graph falls apart: every track of an orbit is cut where it passes
 // between the first images and the others, so the last images form their own component.
-// The largest one is reconstructed and the others are named as dropped.
-TEST(GlobalMapper, DisconnectedViewGraphKeepsTheLargestComponent) {
+// The largest one is the result's initialisation (the others' images not in it), the small
+// one a model of its own: every image is registered in one of them.
+TEST(GlobalMapper, DisconnectedViewGraphGivesAModelPerComponent) {
   SyntheticScene scene = Scene(SyntheticScenario::kOrbit, 0);
   std::set<uint32_t> small;
   for (const auto& [id, im] : scene.input.images)
@@ -240,8 +241,13 @@ TEST(GlobalMapper, DisconnectedViewGraphKeepsTheLargestComponent) {
   std::set<std::string> expected, dropped(o.result.init.images_dropped.begin(), o.result.init.images_dropped.end());
   for (uint32_t id : small) expected.insert(scene.input.images.at(id).name);
   EXPECT_EQ(dropped, expected);
-  EXPECT_EQ(o.report["images_dropped"].size(), small.size());
   for (uint32_t id : small) EXPECT_FALSE(o.result.init.poses.count(id));
+  EXPECT_TRUE(o.report["images_dropped"].empty()) << o.report["images_dropped"];
+  EXPECT_EQ(o.report["images_registered"], scene.input.images.size());
+  const nlohmann::json& components = o.report["stages"]["global_init"]["components"];
+  ASSERT_EQ(components.size(), 2u);
+  EXPECT_EQ(components[0]["images_registered"], scene.input.images.size() - small.size());
+  EXPECT_EQ(components[1]["images_registered"], small.size());
 }
 
 }  // namespace
