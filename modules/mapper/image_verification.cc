@@ -115,9 +115,10 @@ ImageEvidence MeasureImageEvidence(const Reconstruction& tracks, const std::vect
                                    const std::map<uint32_t, Pose>& poses, uint32_t image_id, const Pose& pose,
                                    const ImageVerificationOptions& options) {
   const Correspondences c = LeaveOneOutPoints(tracks, poses, image_id, options);
-  const std::map<uint32_t, std::vector<size_t>> by_image = PairsByImage(pairs);
-  const auto own = by_image.find(image_id);
-  return Evidence(tracks, c, pairs, own == by_image.end() ? nullptr : &own->second, poses, image_id, pose, options);
+  std::vector<size_t> own;
+  for (size_t k = 0; k < pairs.size(); ++k)
+    if (pairs[k].image_id1 == image_id || pairs[k].image_id2 == image_id) own.push_back(k);
+  return Evidence(tracks, c, pairs, &own, poses, image_id, pose, options);
 }
 
 ImageVerificationResult VerifyRegisteredImages(const Reconstruction& tracks, const std::vector<TwoViewGeometry>& pairs,

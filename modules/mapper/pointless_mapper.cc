@@ -208,15 +208,23 @@ std::vector<GlobalInitResult> JoinModels(const Reconstruction& tracks, const std
   return models;
 }
 
-// The stages of an adjustment that is done again, kept under "NAME_before_joining".
-void KeepFirstAdjustmentStages(Report* report) {
+// The stages of `names` kept under NAME + `suffix` (a stage done again).
+void RenameStages(Report* report, std::initializer_list<const char*> names, const std::string& suffix) {
   nlohmann::json& stages = (*report)["stages"];
-  for (const char* name :
-       {"local_hessians", "global_ba", "gcp_check", "convergence", "verification", "triangulation", "more_models"})
+  for (const char* name : names)
     if (stages.contains(name)) {
-      stages[std::string(name) + "_before_joining"] = stages[name];
+      stages[std::string(name) + suffix] = stages[name];
       stages.erase(name);
     }
+}
+
+// The stages of an adjustment that is done again, kept under "NAME_before_joining".
+void KeepFirstAdjustmentStages(Report* report) {
+  RenameStages(report,
+               {"local_hessians", "global_ba", "gcp_check", "convergence", "verification", "triangulation", "more_models",
+                "local_hessians_before_readjustment", "global_ba_before_readjustment",
+                "verification_before_readjustment"},
+               "_before_joining");
 }
 
 // Step 5: the relative motions and their local Hessians.
@@ -324,6 +332,61 @@ void VerifyImages(const Reconstruction& tracks, const std::vector<TwoViewGeometr
   }
 }
 
+// Whether the verification dropped an image or registered one again: the observations of
+// such an image bent the adjustment of the others, which is then done again without them.
+bool VerificationChanged(const ImageVerificationResult& v) { return v.num_dropped + v.num_reregistered > 0; }
+
+// The first verification's verdicts on the images it did not verify at once (dropped, or
+// registered again), in place of the second's on the same images: a record of what happened.
+void KeepFirstVerdicts(const ImageVerificationResult& first, ImageVerificationResult* second) {
+  std::map<uint32_t, size_t> index;
+  for (size_t i = 0; i < second->verdicts.size(); ++i) index[second->verdicts[i].image_id] = i;
+  for (const ImageVerdict& d : first.verdicts) {
+    if (d.status == ImageVerdictStatus::kVerified) continue;
+    const auto it = index.find(d.image_id);
+    if (it == index.end()) {
+      second->verdicts.push_back(d);
+    } else if (second->verdicts[it->second].status == ImageVerdictStatus::kVerified) {
+      second->verdicts[it->second] = d;
+    } else {
+      continue;
+    }
+    (d.status == ImageVerdictStatus::kDropped ? second->num_dropped : second->num_reregistered) += 1;
+  }
+  std::sort(second->verdicts.begin(), second->verdicts.end(),
+            [](const ImageVerdict& a, const ImageVerdict& b) { return a.image_id < b.image_id; });
+}
+
+// Step 8, continued: when the verification dropped an image or registered one again, the model
+// adjusted again (steps 5 and 7) from the verified poses without the dropped images, and
+// verified once more. An adjustment that fails (too few images left to it) leaves the first
+// one standing, with the reason in the report.
+void Readjust(const Reconstruction& tracks, const std::vector<TwoViewGeometry>& pairs,
+              const PointlessMapperOptions& options, const GcpInput* gcps, Report* report, GlobalInitResult* init,
+              PreparedHessians* hessians, RefinementResult* refined, ImageVerificationResult* verification) {
+  if (!VerificationChanged(*verification)) return;
+  const nlohmann::json stages = (*report)["stages"];
+  RenameStages(report, {"local_hessians", "global_ba", "verification"}, "_before_readjustment");
+  GlobalInitResult start = AdjustedStart(*init, refined->poses);
+  try {
+    PreparedHessians again = ComputeMotionHessians(tracks, start, options.refinement, report);
+    RefinementResult adjusted = AdjustPointless(tracks, start, again, options, gcps, report);
+    adjusted.history.clear();
+    ImageVerificationResult second;
+    VerifyImages(tracks, pairs, options.verification, report, &adjusted, &second);
+    KeepFirstVerdicts(*verification, &second);
+    *init = std::move(start);
+    *hessians = std::move(again);
+    *refined = std::move(adjusted);
+    *verification = std::move(second);
+  } catch (const InputError& e) {
+    PGBA_LOG_WARN << "the adjustment again without the images the verification dropped failed, the first one is kept: "
+                  << e.what();
+    (*report)["stages"] = stages;
+    (*report)["stages"]["verification"]["readjustment_failed"] = e.what();
+  }
+}
+
 // Step 9: every track triangulated with the final poses (and the refined intrinsics).
 Reconstruction Triangulate(const Reconstruction& tracks, const RefinementResult& refined, Report* report) {
   StageTimer timer(report, "triangulation");
@@ -379,6 +442,7 @@ void AdjustModel(const Reconstruction& tracks, const std::vector<TwoViewGeometry
   m->refined = AdjustPointless(tracks, m->init, m->hessians, options, nullptr, &scratch);
   m->refined.history.clear();
   VerifyImages(tracks, pairs, options.verification, &scratch, &m->refined, &m->verification);
+  Readjust(tracks, pairs, options, nullptr, &scratch, &m->init, &m->hessians, &m->refined, &m->verification);
   m->model = Triangulate(tracks, m->refined, &scratch);
   *record = {{"images", m->init.poses.size()},
              {"images_registered", m->refined.poses.size()},
@@ -394,15 +458,17 @@ void AdjustModels(const Reconstruction& tracks, const std::vector<TwoViewGeometr
                   PointlessMapperResult* r) {
   // 7. Pointless global BA, re-linearised at its solution.
   r->refined = AdjustPointless(tracks, r->initial.init, r->hessians, options, gcps, report);
-  if (gcps) CheckFinalGcps(*gcps, r->refined.poses, report);
   if (options.record_convergence) {
     StageTimer timer(report, "convergence");
     r->convergence = EvaluateConvergence(tracks, r->refined.history, options.convergence);
     timer.Stop().update(r->convergence.ToJson());
   }
   r->refined.history.clear();
-  // 8. Every registered image verified; a failing one registered again or dropped.
+  // 8. Every registered image verified; a failing one registered again or dropped, and then
+  //    the model adjusted again (steps 5 and 7) from the verified poses.
   VerifyImages(tracks, pairs, options.verification, report, &r->refined, &r->verification);
+  Readjust(tracks, pairs, options, gcps, report, &r->initial.init, &r->hessians, &r->refined, &r->verification);
+  if (gcps) CheckFinalGcps(*gcps, r->refined.poses, report);
   // 9. Points triangulated with the final poses.
   r->model = Triangulate(tracks, r->refined, report);
   // Steps 5, 7 and 8 for the other models.
