@@ -149,9 +149,20 @@ std::string StageDescription(const std::string& name) {
       {"global_ba", "pointless global bundle adjustment: the final poses"},
       {"gcp_check", "ground control points triangulated with the final poses"},
       {"convergence", "reprojection error per iteration (the convergence plot)"},
+      {"verification", "every registered image checked against its observations and verified pairs"},
       {"triangulation", "points triangulated with the final poses"},
+      {"more_models", "the other models (components of the view graph), each adjusted on its own"},
+      {"components", "images left out joined by absolute pose; models merged by the points they share"},
       {"output", "writing sparse/ and points.ply"},
       {"evaluation", "reprojection error of the result (and errors against the ground truth)"}};
+  // A stage done again keeps its first round under a suffix saying why.
+  for (const auto& [suffix, why] : {std::pair<std::string, std::string>{"_before_readjustment",
+                                                                        "done again without the images the verification dropped"},
+                                    {"_before_joining", "done again with the images joined by absolute pose"}})
+    if (name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0) {
+      const std::string first = StageDescription(name.substr(0, name.size() - suffix.size()));
+      return first.empty() ? "first round, " + why : first + " (first round, " + why + ")";
+    }
   const auto it = kWords.find(name);
   return it == kWords.end() ? "" : it->second;
 }

@@ -327,8 +327,8 @@ void VerifyImages(const Reconstruction& tracks, const std::vector<TwoViewGeometr
     if (d.status == ImageVerdictStatus::kReregistered)
       PGBA_LOG_WARN << "image " << name << " registered again from the structure (moved " << d.moved_deg
                     << " deg): its adjusted pose failed verification: " << d.reason;
-    else if (d.status == ImageVerdictStatus::kDropped)
-      PGBA_LOG_WARN << "image " << name << " dropped: " << d.reason;
+    else if (d.status == ImageVerdictStatus::kDropped)  // the commands list them at their end
+      PGBA_LOG_DEBUG << "image " << name << " dropped: " << d.reason;
   }
 }
 
@@ -365,6 +365,10 @@ void Readjust(const Reconstruction& tracks, const std::vector<TwoViewGeometry>& 
               const PointlessMapperOptions& options, const GcpInput* gcps, Report* report, GlobalInitResult* init,
               PreparedHessians* hessians, RefinementResult* refined, ImageVerificationResult* verification) {
   if (!VerificationChanged(*verification)) return;
+  PGBA_LOG_INFO << "adjusting again from the verified poses"
+                << (verification->num_dropped ? ", without the " + std::to_string(verification->num_dropped) +
+                                                    (verification->num_dropped == 1 ? " image" : " images") + " dropped"
+                                              : std::string());
   const nlohmann::json stages = (*report)["stages"];
   RenameStages(report, {"local_hessians", "global_ba", "verification"}, "_before_readjustment");
   GlobalInitResult start = AdjustedStart(*init, refined->poses);

@@ -141,6 +141,25 @@ TEST(HtmlReport, StagesInTheOrderTheyRanWithTheirTotalAndTheRunsTime) {
   }
 }
 
+// A stage done again: its first round says which stage it was and why it was done again.
+TEST(HtmlReport, AStageDoneAgainSaysWhy) {
+  const nlohmann::json report = nlohmann::json::parse(R"({"stages": {
+      "verification_before_readjustment": {"seconds": 1.0, "order": 0},
+      "verification": {"seconds": 1.0, "order": 1},
+      "global_ba_before_joining": {"seconds": 1.0, "order": 2}}})");
+  HtmlReportInput in;
+  in.report = &report;
+  const std::string html = RunReportHtml(in);
+  EXPECT_NE(html.find("<td>verification_before_readjustment</td><td class=\"n\">1.00</td><td class=\"n\">0</td>"
+                      "<td>every registered image checked against its observations and verified pairs (first round, "
+                      "done again without the images the verification dropped)</td>"),
+            std::string::npos)
+      << html;
+  EXPECT_NE(html.find("<td>pointless global bundle adjustment: the final poses (first round, done again with the "
+                      "images joined by absolute pose)</td>"),
+            std::string::npos);
+}
+
 TEST(HtmlReport, GlobalBaPassesAndWhetherItConverged) {
   nlohmann::json report = nlohmann::json::parse(R"({"stages": {"global_ba": {"seconds": 1, "order": 0,
       "converged": false, "passes": [{"cost": 1234.5, "iterations": 7}, {"iterations": 3, "cost": 1200.25}]}}})");
