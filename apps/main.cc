@@ -135,7 +135,7 @@ int main(int argc, char** argv) {
     is_command = is_command || sub->get_name() == command;
   }
   if (!command.empty() && !is_command) {
-    std::cerr << "error: unknown command '" << command << "' (commands: " << known << "; see --help)" << std::endl;
+    std::cerr << "error: unknown command '" << OneLine(command) << "' (commands: " << known << "; see --help)" << std::endl;
     return kInputErrorExitCode;
   }
   try {
@@ -143,10 +143,12 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help
     if (const std::string misplaced = app::MisplacedGlobalOption(argc, argv, command); !misplaced.empty()) {
-      std::cerr << "error: " << misplaced << std::endl;
+      std::cerr << "error: " << OneLine(misplaced) << std::endl;
       return kInputErrorExitCode;
     }
-    std::cerr << "error: " << e.what() << "\nRun with --help for usage." << std::endl;
+    // One line, as every other error: the problem, then where the usage is.
+    std::cerr << "error: " << OneLine(e.what()) << " (usage: pgba " << (command.empty() ? "" : OneLine(command) + " ")
+              << "--help)" << std::endl;
     return kInputErrorExitCode;
   }
   SetLogVerbosity(verbosity);
@@ -158,17 +160,17 @@ int main(int argc, char** argv) {
     for (auto& [sub, run] : app::Runners())
       if (sub->parsed()) return run();
   } catch (const InputError& e) {
-    std::cerr << "error: " << e.what() << std::endl;
+    std::cerr << "error: " << OneLine(e.what()) << std::endl;
     return kInputErrorExitCode;
   } catch (const std::bad_alloc&) {
     std::cerr << "error: out of memory (the input or an option asks for more than this machine has)" << std::endl;
     return 1;
   } catch (const std::filesystem::filesystem_error& e) {
     // A path the checks before did not foresee: one line naming it, not the library's text.
-    std::cerr << "error: " << e.path1().string() << ": " << e.code().message() << std::endl;
+    std::cerr << "error: " << OneLine(e.path1().string()) << ": " << e.code().message() << std::endl;
     return kInputErrorExitCode;
   } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << std::endl;
+    std::cerr << "error: " << OneLine(e.what()) << std::endl;
     return 1;
   }
   return 0;

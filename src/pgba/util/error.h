@@ -21,6 +21,10 @@ std::string FormatInputError(const std::string& file, int line, const std::strin
 
 [[noreturn]] void ThrowInputError(const std::string& file, int line, const std::string& problem);
 
+// `text` as one line: control characters (a line break in a path the user gave, in a name
+// read from a file) shown as \xNN, so that an error message is always exactly one line.
+std::string OneLine(const std::string& text);
+
 // Exit code used by the CLI for unusable input.
 constexpr int kInputErrorExitCode = 2;
 
