@@ -32,7 +32,7 @@ void RegisterEvaluate(CLI::App& app) {
   sub->add_option("--loop", args->loop, "Withheld loop correspondences (name_i x_i y_i name_j x_j y_j)");
   sub->add_option("--json", args->json, "Write the metrics as JSON to this file");
   sub->add_option("--inlier-px", args->inlier_px, "Inlier threshold of sigma, pixels")
-      ->check(CLI::PositiveNumber)
+      ->check(PositiveNumber())
       ->capture_default_str();
 
   AddCommand(app, sub, [args, sub] {
@@ -64,8 +64,9 @@ void RegisterEvaluate(CLI::App& app) {
     // Errors "computed" over no image at all would read as a perfect score.
     if (metrics.ground_truth && metrics.ground_truth->num_common == 0)
       ThrowInputError(args->gt, 0, "no image in common with " + args->model + " (images are matched by name)");
-    metrics.PrintTable(std::cout);
+    // The file first: a write the disk refuses ends in its one error line, not after a table.
     if (!args->json.empty()) WriteStringAtomically(args->json, metrics.ToJson().dump(2) + "\n");
+    metrics.PrintTable(std::cout);
     return 0;
   });
 }

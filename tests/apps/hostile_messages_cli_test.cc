@@ -99,4 +99,22 @@ TEST_F(HostileMessagesCli, ALineBreakInAPathStaysOnTheErrorLine) {
   EXPECT_FALSE(fs::exists(dir_ / "nl_ws" / "features"));
 }
 
+// A stage's finding about the tracks named no file ("tracks: no image pair could be verified
+// (too few shared tracks?)"): it names the tracks model's images.txt now, in the error line
+// and in report.json, for every command that reconstructs from a tracks model.
+TEST_F(HostileMessagesCli, AStagesFindingAboutTheTracksNamesTheTracksFile) {
+  const fs::path sparse = dir_ / "sparse_scene";
+  ASSERT_EQ(Run("synth --scenario orbit --images 20 --points 500 --out " + sparse.string()).code, 0);
+  const std::string tracks = (sparse / "input").string(), images_txt = (sparse / "input" / "images.txt").string();
+  for (const std::string& command : {std::string("init"), std::string("reconstruct"), std::string("benchmark")}) {
+    const fs::path out = dir_ / ("sparse_" + command);
+    ExpectOneLineError(Run(command + " --tracks " + tracks + " --out " + out.string()), images_txt + ": ",
+                       "no image pair could be verified");
+    if (command != "benchmark") {
+      EXPECT_NE(Bytes(out / "report.json").find("\"error\": \"" + images_txt + ": no image pair"), std::string::npos)
+          << command << ": " << Bytes(out / "report.json");
+    }
+  }
+}
+
 }  // namespace

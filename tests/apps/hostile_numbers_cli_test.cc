@@ -202,4 +202,31 @@ TEST_F(HostileNumbersCli, ConvertersValidateWhatTheyWrite) {
                      "cannot access");
 }
 
+// Unsigned options read "-5" as 2^64 - 5 and 10^23 as 2^64 - 1 (a benchmark's seed), and
+// CLI11's positive-number check printed the largest double in 300 digits: each is one short
+// line naming the option and the value now.
+TEST_F(HostileNumbersCli, OptionsOutOfTheirTypeOrSignAreRefused) {
+  struct Case {
+    std::string args, message;
+  };
+  const std::string tracks = (dir_ / "scene" / "input").string(), gt = (dir_ / "scene" / "gt").string();
+  const std::string benchmark = "benchmark --tracks " + tracks + " --out " + (dir_ / "seed_out").string();
+  const std::vector<Case> cases = {
+      {benchmark + " --perturb-seed -5", "error: --perturb-seed: expected a non-negative integer, got '-5'"},
+      {benchmark + " --perturb-seed 99999999999999999999999", "error: --perturb-seed: 99999999999999999999999 is out"},
+      {"evaluate " + gt + " --obs " + tracks + " --inlier-px 0", "error: --inlier-px: must be > 0, got '0'"},
+      {"evaluate " + gt + " --obs " + tracks + " --inlier-px -1e400", "error: --inlier-px: "},
+      {"convert eth3d-slam --sequence " + tracks + " --out " + (dir_ / "seed_ds").string() + " --max-dt -1",
+       "error: --max-dt: must be >= 0, got '-1'"},
+  };
+  for (const Case& c : cases) {
+    const pgba::test::CliResult r = Run(c.args);
+    EXPECT_EQ(r.code, 2) << c.args << ": " << r.output;
+    ASSERT_EQ(Lines(r.output).size(), 1u) << r.output;
+    EXPECT_EQ(r.output.rfind(c.message, 0), 0u) << c.args << ": " << r.output;
+    EXPECT_LT(r.output.size(), 200u) << r.output;
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "seed_out" / "benchmark.json"));
+}
+
 }  // namespace

@@ -11,7 +11,7 @@ std::string FormatInputError(const std::string& file, int line, const std::strin
 }
 
 void ThrowInputError(const std::string& file, int line, const std::string& problem) {
-  throw InputError(FormatInputError(file, line, problem));
+  throw InputError(FormatInputError(file, line, problem), file.empty() ? std::string("?") : file);
 }
 
 std::string OneLine(const std::string& text) {
