@@ -61,6 +61,11 @@ void RegisterEvaluate(CLI::App& app) {
         Evaluate(model, obs, args->gt.empty() ? nullptr : &gt, args->loop.empty() ? nullptr : &loops, options);
     if (metrics.images_registered == 0)
       PGBA_LOG_WARN << "no image of " << args->obs << " is in " << args->model << " (images are matched by name)";
+    // Loop pairs that name images the model does not hold would read as "n/a" without a cause.
+    if (metrics.loop && metrics.loop->num_unregistered > 0)
+      PGBA_LOG_WARN << args->loop << ": " << metrics.loop->num_unregistered << " of "
+                    << metrics.loop->num_correspondences << " loop pairs name an image that is not in " << args->model
+                    << " (images are matched by name); left out";
     // Errors "computed" over no image at all would read as a perfect score.
     if (metrics.ground_truth && metrics.ground_truth->num_common == 0)
       ThrowInputError(args->gt, 0, "no image in common with " + args->model + " (images are matched by name)");

@@ -82,4 +82,18 @@ TEST_F(HostileNamesCli, ImageNamesThatATextModelCannotKeep) {
   }
 }
 
+// Loop pairs naming images the model does not hold gave "loop pairs evaluated 0 / 1" and
+// "n/a" without a cause: a warning names the loop file and says why.
+TEST_F(HostileNamesCli, LoopPairsNamingUnknownImagesAreNamed) {
+  const fs::path loop = dir_ / "unknown_loop.txt";
+  std::ofstream(loop) << "nope.jpg 1 2 other.jpg 3 4\n";
+  const std::string gt = (dir_ / "scene" / "gt").string();
+  const pgba::test::CliResult r =
+      Run("evaluate " + gt + " --obs " + (dir_ / "scene" / "input").string() + " --loop " + loop.string());
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("warning: " + loop.string() + ": 1 of 1 loop pairs name an image that is not in " + gt),
+            std::string::npos)
+      << r.output;
+}
+
 }  // namespace
