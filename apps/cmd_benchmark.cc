@@ -19,6 +19,7 @@
 #include "pgba/io/colmap_text.h"
 #include "pgba/io/loop_pairs.h"
 #include "pgba/util/atomic_file.h"
+#include "pgba/util/error.h"
 #include "pgba/util/logging.h"
 
 namespace pgba::app {
@@ -60,10 +61,7 @@ void RegisterBenchmark(CLI::App& app) {
     CheckOutputDir(args->out, kBenchmarkOutputs,
                    {{"--tracks", args->tracks}, {"--gt", args->gt}, {"--loop", args->loop}, {"--config", args->config}});
     // First: a re-run refused at its options or inputs must not leave the earlier result.
-    {
-      std::error_code ec;
-      fs::remove(fs::path(args->out) / "benchmark.json", ec);
-    }
+    RemovePreviousResults(args->out, kBenchmarkResults);
     const PointlessMapperOptions ro = LoadRunOptions(args->config).reconstruction;
     BenchmarkOptions options;
     options.mapper = ro.mapper;
@@ -75,7 +73,8 @@ void RegisterBenchmark(CLI::App& app) {
       for (int k = 0; k <= 11; ++k) options.outlier_sweep.push_back(0.02 * k);
 
     const Reconstruction tracks = ReadColmapText(args->tracks);
-    RequireEnoughImages(tracks, (fs::path(args->tracks) / "images.txt").string());
+    const std::string source = (fs::path(args->tracks) / "images.txt").string();
+    RequireEnoughImages(tracks, source);
     Reconstruction gt;
     if (!args->gt.empty()) gt = ReadColmapText(args->gt, /*points_optional=*/true);
     std::vector<LoopCorrespondence> loops;
@@ -83,26 +82,37 @@ void RegisterBenchmark(CLI::App& app) {
 
     PrepareOutputDir(args->out);
     Report report;
-    GlobalMapperResult init = RunGlobalMapper(tracks, options.mapper, &report);
+    GlobalMapperResult init = NamingTheSource(source, [&] { return RunGlobalMapper(tracks, options.mapper, &report); });
     if (args->perturb_deg > 0) init.init.poses = PerturbedStart(init.init.poses, args->perturb_deg, args->perturb_seed);
     // Every method runs with the cameras the mapper ends with (focals from the view graph).
     const Reconstruction calibrated = TracksWithCameras(tracks, init.cameras);
-    const BenchmarkResult result = RunBenchmark(calibrated, init, args->gt.empty() ? nullptr : &gt,
-                                                args->loop.empty() ? nullptr : &loops, options);
+    const BenchmarkResult result = NamingTheSource(source, [&] {
+      return RunBenchmark(calibrated, init, args->gt.empty() ? nullptr : &gt, args->loop.empty() ? nullptr : &loops,
+                          options);
+    });
 
     const fs::path out(args->out);
-    fs::create_directories(out / "models");
-    for (const MethodOutcome& m : result.methods)
-      WriteColmapText(m.model, (out / "models" / RefinementMethodName(m.method)).string());
-    nlohmann::json j = result.ToJson();
-    j["init"]["stages"] = report.json()["stages"];
-    j["tracks"] = args->tracks;
-    j["rotation_outliers"] = args->rotation_outliers;
-    j["perturb_deg"] = args->perturb_deg;
-    j["perturb_seed"] = args->perturb_seed;
-    WriteStringAtomically((out / "convergence.svg").string(), ConvergencePlot(result));
-    if (!result.sweep.empty()) WriteStringAtomically((out / "outlier_sweep.svg").string(), OutlierSweepPlot(result));
-    WriteStringAtomically((out / "benchmark.json").string(), j.dump(2) + "\n");
+    try {
+      for (const MethodOutcome& m : result.methods)
+        WriteColmapText(m.model, (out / "models" / RefinementMethodName(m.method)).string());
+      nlohmann::json j = result.ToJson();
+      j["init"]["stages"] = report.json()["stages"];
+      j["tracks"] = args->tracks;
+      j["rotation_outliers"] = args->rotation_outliers;
+      j["perturb_deg"] = args->perturb_deg;
+      j["perturb_seed"] = args->perturb_seed;
+      WriteStringAtomically((out / "convergence.svg").string(), ConvergencePlot(result));
+      if (!result.sweep.empty())
+        WriteStringAtomically((out / "outlier_sweep.svg").string(), OutlierSweepPlot(result));
+      WriteStringAtomically((out / "benchmark.json").string(), j.dump(2) + "\n");
+    } catch (const std::exception&) {
+      // A write the disk refused: no model or plot of this run is left to read as its result.
+      try {
+        RemovePreviousResults(args->out, kBenchmarkResults);
+      } catch (const std::exception&) {
+      }
+      throw;
+    }
     PrintBenchmarkTables(result, std::cout);
     std::cout << "\nwrote " << args->out << "/{benchmark.json, convergence.svg"
               << (result.sweep.empty() ? "" : ", outlier_sweep.svg") << ", models/}\n";

@@ -70,7 +70,7 @@ void RegisterConvert(CLI::App& app) {
       ->required();
   l->add_option("--out", slam->out, "Output dataset folder")->required();
   l->add_option("--max-dt", slam->options.max_dt_s, "Largest frame / ground-truth time difference, seconds")
-      ->check(CLI::NonNegativeNumber)
+      ->check(NonNegativeNumber())
       ->capture_default_str();
   l->add_flag("--copy", slam->options.layout.copy_images, "Copy the photos instead of linking them");
   AddCommand(app, l, [slam] {

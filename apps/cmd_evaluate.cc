@@ -32,7 +32,7 @@ void RegisterEvaluate(CLI::App& app) {
   sub->add_option("--loop", args->loop, "Withheld loop correspondences (name_i x_i y_i name_j x_j y_j)");
   sub->add_option("--json", args->json, "Write the metrics as JSON to this file");
   sub->add_option("--inlier-px", args->inlier_px, "Inlier threshold of sigma, pixels")
-      ->check(CLI::PositiveNumber)
+      ->check(PositiveNumber())
       ->capture_default_str();
 
   AddCommand(app, sub, [args, sub] {
@@ -61,11 +61,17 @@ void RegisterEvaluate(CLI::App& app) {
         Evaluate(model, obs, args->gt.empty() ? nullptr : &gt, args->loop.empty() ? nullptr : &loops, options);
     if (metrics.images_registered == 0)
       PGBA_LOG_WARN << "no image of " << args->obs << " is in " << args->model << " (images are matched by name)";
+    // Loop pairs that name images the model does not hold would read as "n/a" without a cause.
+    if (metrics.loop && metrics.loop->num_unregistered > 0)
+      PGBA_LOG_WARN << args->loop << ": " << metrics.loop->num_unregistered << " of "
+                    << metrics.loop->num_correspondences << " loop pairs name an image that is not in " << args->model
+                    << " (images are matched by name); left out";
     // Errors "computed" over no image at all would read as a perfect score.
     if (metrics.ground_truth && metrics.ground_truth->num_common == 0)
       ThrowInputError(args->gt, 0, "no image in common with " + args->model + " (images are matched by name)");
-    metrics.PrintTable(std::cout);
+    // The file first: a write the disk refuses ends in its one error line, not after a table.
     if (!args->json.empty()) WriteStringAtomically(args->json, metrics.ToJson().dump(2) + "\n");
+    metrics.PrintTable(std::cout);
     return 0;
   });
 }

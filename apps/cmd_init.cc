@@ -54,9 +54,9 @@ void RegisterInit(CLI::App& app) {
                                       ? ReadColmapText(args->tracks)
                                       : TracksFromColmapDatabase(ReadColmapDatabase(args->database),
                                                                  TrackBuilderOptions{}, nullptr, args->database);
-    RequireEnoughImages(tracks, args->database.empty()
-                                    ? (std::filesystem::path(args->tracks) / "images.txt").string()
-                                    : args->database);
+    const std::string source =
+        args->database.empty() ? (std::filesystem::path(args->tracks) / "images.txt").string() : args->database;
+    RequireEnoughImages(tracks, source);
     PrepareOutputDir(args->out);
     Report report;
     report["command"] = "init";
@@ -64,12 +64,20 @@ void RegisterInit(CLI::App& app) {
       report["tracks"] = args->tracks;
     else
       report["database"] = args->database;
-    const GlobalMapperResult result = RunGlobalMapper(tracks, options, &report);
-    WriteGlobalMapperWorkspace(args->out, tracks, result);
-    PointlessMapperOptions fingerprinted;
-    fingerprinted.mapper = options;
-    WriteWorkspaceFingerprint(args->out, FingerprintOf(tracks, fingerprinted, /*with_hessians=*/false));
-    report.Write((std::filesystem::path(args->out) / "report.json").string());
+    try {
+      const GlobalMapperResult result =
+          NamingTheSource(source, [&] { return RunGlobalMapper(tracks, options, &report); });
+      WriteGlobalMapperWorkspace(args->out, tracks, result);
+      PointlessMapperOptions fingerprinted;
+      fingerprinted.mapper = options;
+      WriteWorkspaceFingerprint(args->out, FingerprintOf(tracks, fingerprinted, /*with_hessians=*/false));
+      report["status"] = "ok";
+      report.Write((std::filesystem::path(args->out) / "report.json").string());
+    } catch (const std::exception& e) {
+      // A failed init (or a full disk) leaves no fingerprint: its workspace is refused.
+      RecordFailure(args->out, e, &report);
+      throw;
+    }
     PGBA_LOG_INFO << "wrote " << args->out << "/{pairs.json, triplets.json, init/, report.json}";
     return 0;
   });

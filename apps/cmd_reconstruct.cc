@@ -21,6 +21,7 @@
 #include "pgba/io/colmap_text.h"
 #include "pgba/io/gcp_file.h"
 #include "pgba/io/workspace_fingerprint.h"
+#include "pgba/util/error.h"
 #include "pgba/util/logging.h"
 
 namespace pgba::app {
@@ -53,7 +54,8 @@ void RegisterReconstruct(CLI::App& app) {
     options.gcp_path = args->gcp;
     if (!args->gcp.empty()) ReadGcpFile(args->gcp);  // a malformed file fails before any work
     const Reconstruction tracks = ReadColmapText(args->tracks);
-    RequireEnoughImages(tracks, (fs::path(args->tracks) / "images.txt").string());
+    const std::string source = (fs::path(args->tracks) / "images.txt").string();
+    RequireEnoughImages(tracks, source);
     if (!args->workspace.empty())
       CheckWorkspaceFingerprint(args->workspace,
                                 FingerprintOf(tracks, options, fs::exists(WorkspaceLocalHessiansPath(args->workspace))));
@@ -64,10 +66,11 @@ void RegisterReconstruct(CLI::App& app) {
     const std::string report_path = (fs::path(args->out) / "report.json").string();
     try {
       const PointlessMapper mapper(options);
-      const PointlessMapperResult result =
-          mapper.Solve(tracks, &report,
-                       args->workspace.empty() ? PointlessMapperResult()
-                                               : ReadMapperWorkspace(tracks, args->workspace, options, &report));
+      const PointlessMapperResult result = NamingTheSource(source, [&] {
+        return mapper.Solve(tracks, &report,
+                            args->workspace.empty() ? PointlessMapperResult()
+                                                    : ReadMapperWorkspace(tracks, args->workspace, options, &report));
+      });
       WriteReconstruction(args->out, tracks, result);
       WriteWorkspaceFingerprint(args->out, FingerprintOf(tracks, options, /*with_hessians=*/true));
       report["status"] = "ok";

@@ -24,6 +24,11 @@ void AddCalibrationOptions(CLI::App* sub, pgba::CalibrationInput* calib);
 // range (> 0; config key matching.verification.relative_pose.threshold_px)", exit code 2.
 CLI::Validator InConfigRange(const std::string& key);
 
+// A number > 0 (>= 0): "--inlier-px: must be > 0, got '0'" (CLI11's own PositiveNumber
+// printed its range with the largest double written out in 300 digits).
+CLI::Validator PositiveNumber();
+CLI::Validator NonNegativeNumber();
+
 // The tracks a reconstruction starts from, with at least 3 images: InputError naming
 // `source` (the --tracks model's images.txt or the --database) otherwise, before any stage
 // reports the problem without the file.

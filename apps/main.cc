@@ -1,6 +1,7 @@
 // pgba: pointless global bundle adjustment, from tracks or images to poses.
 #include <tbb/global_control.h>
 
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -55,10 +56,49 @@ CLI::Validator InConfigRange(const std::string& key) {
       range->Describe(), "RANGE");
 }
 
+CLI::Validator PositiveNumber() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        if (text.empty() || end != text.c_str() + text.size()) return "expected a number, got '" + text + "'";
+        if (!std::isfinite(v)) return "expected a finite number, got '" + text + "'";
+        return v > 0 ? "" : "must be > 0, got '" + text + "'";
+      },
+      "> 0", "POSITIVE");
+}
+
+CLI::Validator NonNegativeNumber() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        if (text.empty() || end != text.c_str() + text.size()) return "expected a number, got '" + text + "'";
+        if (!std::isfinite(v)) return "expected a finite number, got '" + text + "'";
+        return v >= 0 ? "" : "must be >= 0, got '" + text + "'";
+      },
+      ">= 0", "NONNEGATIVE");
+}
+
 // The one parser of command-line numbers: every floating-point option is held to a finite
-// value (CLI11's own checks, e.g. Range(0, 1), let NaN through: no comparison fails).
+// value (CLI11's own checks, e.g. Range(0, 1), let NaN through: no comparison fails), and
+// every unsigned one to a plain non-negative integer its type holds (CLI11 read "-5" as
+// 2^64 - 5 and 10^23 as 2^64 - 1 for a 64-bit seed).
 void RequireFiniteNumbers(CLI::App* app) {
   for (CLI::Option* opt : app->get_options()) {
+    if (opt->get_type_name().rfind("UINT", 0) == 0) {
+      opt->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos)
+              return "expected a non-negative integer, got '" + text + "'";
+            errno = 0;
+            std::strtoull(text.c_str(), nullptr, 10);
+            if (errno == ERANGE) return text + " is out of range (at most 18446744073709551615)";
+            return "";
+          },
+          ""));
+      continue;
+    }
     if (opt->get_type_name().rfind("FLOAT", 0) != 0) continue;
     opt->check(CLI::Validator(
         [](std::string& text) -> std::string {
@@ -135,7 +175,7 @@ int main(int argc, char** argv) {
     is_command = is_command || sub->get_name() == command;
   }
   if (!command.empty() && !is_command) {
-    std::cerr << "error: unknown command '" << command << "' (commands: " << known << "; see --help)" << std::endl;
+    std::cerr << "error: unknown command '" << OneLine(command) << "' (commands: " << known << "; see --help)" << std::endl;
     return kInputErrorExitCode;
   }
   try {
@@ -143,10 +183,12 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help
     if (const std::string misplaced = app::MisplacedGlobalOption(argc, argv, command); !misplaced.empty()) {
-      std::cerr << "error: " << misplaced << std::endl;
+      std::cerr << "error: " << OneLine(misplaced) << std::endl;
       return kInputErrorExitCode;
     }
-    std::cerr << "error: " << e.what() << "\nRun with --help for usage." << std::endl;
+    // One line, as every other error: the problem, then where the usage is.
+    std::cerr << "error: " << OneLine(e.what()) << " (usage: pgba " << (command.empty() ? "" : OneLine(command) + " ")
+              << "--help)" << std::endl;
     return kInputErrorExitCode;
   }
   SetLogVerbosity(verbosity);
@@ -158,17 +200,17 @@ int main(int argc, char** argv) {
     for (auto& [sub, run] : app::Runners())
       if (sub->parsed()) return run();
   } catch (const InputError& e) {
-    std::cerr << "error: " << e.what() << std::endl;
+    std::cerr << "error: " << OneLine(e.what()) << std::endl;
     return kInputErrorExitCode;
   } catch (const std::bad_alloc&) {
     std::cerr << "error: out of memory (the input or an option asks for more than this machine has)" << std::endl;
     return 1;
   } catch (const std::filesystem::filesystem_error& e) {
     // A path the checks before did not foresee: one line naming it, not the library's text.
-    std::cerr << "error: " << e.path1().string() << ": " << e.code().message() << std::endl;
+    std::cerr << "error: " << OneLine(e.path1().string()) << ": " << e.code().message() << std::endl;
     return kInputErrorExitCode;
   } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << std::endl;
+    std::cerr << "error: " << OneLine(e.what()) << std::endl;
     return 1;
   }
   return 0;

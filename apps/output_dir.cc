@@ -24,6 +24,9 @@ const std::vector<std::string> kRunOutputs = {
     "init",          "motions.json", "local_hessians.json", "features", "tracks", "matching", "log.txt"};
 const std::vector<std::string> kBenchmarkOutputs = {"models", "benchmark.json", "convergence.svg",
                                                     "outlier_sweep.svg"};
+const std::vector<std::string> kMapperResults = {"sparse", "points.ply", "report.json", "report.html",
+                                                 "fingerprint.json"};
+const std::vector<std::string> kBenchmarkResults = kBenchmarkOutputs;
 
 void CheckOutputDir(const std::string& out, const std::vector<std::string>& written,
                     const std::vector<NamedInput>& inputs) {
@@ -45,11 +48,11 @@ void PrepareOutputDir(const std::string& out) {
   fs::remove(probe, ec);
 }
 
-void RemovePreviousResults(const std::string& out) {
+void RemovePreviousResults(const std::string& out, const std::vector<std::string>& results) {
   std::error_code ec;
   // No folder there (or a file, which PrepareOutputDir reports): no earlier result.
   if (!fs::is_directory(out, ec)) return;
-  for (const char* name : {"sparse", "points.ply", "report.json", "report.html", "fingerprint.json"}) {
+  for (const std::string& name : results) {
     fs::remove_all(fs::path(out) / name, ec);
     if (ec) ThrowInputError((fs::path(out) / name).string(), 0, "cannot remove the previous result: " + ec.message());
   }

@@ -32,15 +32,22 @@ void CheckOutputDir(const std::string& out, const std::vector<std::string>& writ
 // permission, a read-only file system) is an InputError now, not after the computation.
 void PrepareOutputDir(const std::string& out);
 
-// Removes the results of an earlier run in `out`: sparse/, points.ply, report.json,
-// report.html, the workspace fingerprint (the workspace artefacts beside it are rewritten by
-// this run; until then they are refused as a --workspace). Cached inputs (features/, tracks/)
-// stay: a re-run resumes from them.
-void RemovePreviousResults(const std::string& out);
+// The entries of `out` that read as a command's result. Of init, reconstruct and run:
+// sparse/, points.ply, report.json, report.html and the workspace fingerprint (the workspace
+// artefacts beside it are rewritten by the next run; without the fingerprint they are refused
+// as a --workspace). Of benchmark: benchmark.json, models/ and the plots. Cached inputs
+// (features/, tracks/) are not results: a re-run resumes from them.
+extern const std::vector<std::string> kMapperResults;
+extern const std::vector<std::string> kBenchmarkResults;
 
-// After a failure: the results written so far removed (RemovePreviousResults) and
-// report.json written with status "failed" and the error, as far as the disk allows (a full
-// disk may refuse even that; nothing then reads as a result).
+// Removes the `results` of an earlier run in `out`: first thing in a command, so that a
+// re-run refused at its options or inputs does not leave the earlier result.
+void RemovePreviousResults(const std::string& out, const std::vector<std::string>& results = kMapperResults);
+
+// After a failure (of the computation or of a write: a full disk): the results written so
+// far removed (RemovePreviousResults) and report.json written with status "failed" and the
+// error, as far as the disk allows (a full disk may refuse even that; nothing then reads as a
+// result).
 void RecordFailure(const std::string& out, const std::exception& error, Report* report);
 
 // The fingerprint of a workspace computed from `tracks` with `options` (its hessian part

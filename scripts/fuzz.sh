@@ -3,8 +3,9 @@
 # the few seconds of deterministic mutations that ctest gives each target:
 #   bash scripts/fuzz.sh colmap_text 600        # target, seconds (default 300)
 # Targets: the tests/fuzz/fuzz_<target>.cc files (colmap_text colmap_database json_config
-# gcp_file loop_pairs feature_file workspace_json). The corpus starts from the target's seeds
-# and grows in build-fuzz/corpus/<target>/; crashes are written to build-fuzz/crash-* (replay
+# gcp_file loop_pairs feature_file workspace_json). The corpus starts from the target's
+# checked-in corpus (tests/fuzz/corpus/<target>/) and grows in build-fuzz/corpus/<target>/
+# (an input worth keeping, such as a crash once fixed, goes into the checked-in one); crashes are written to build-fuzz/crash-* (replay
 # one: build-fuzz/bin/libfuzz_<target> build-fuzz/crash-...). Every library is built with
 # clang's ASan + UBSan and coverage instrumentation: the first build of a target of the core
 # library takes about 20 min on 2 shared cores, json_config (every module) 30 min more.
@@ -20,7 +21,7 @@ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_C_COMPILER=
 cmake --build build-fuzz -j"$(nproc)" --target "fuzz_$target" "libfuzz_$target" 2>&1 | tail -n 3
 cd build-fuzz
 mkdir -p "corpus/$target"
-"./bin/fuzz_$target" --dump-seeds "corpus/$target" > /dev/null
+cp -n ../tests/fuzz/corpus/"$target"/* "corpus/$target/"
 export ASAN_OPTIONS="detect_leaks=0"  # third-party singletons (TBB, OpenCV) hold memory at exit
 export UBSAN_OPTIONS="print_stacktrace=1"
 "./bin/libfuzz_$target" -max_total_time="$seconds" -timeout=10 "corpus/$target"

@@ -197,8 +197,7 @@ std::map<std::string, uint32_t> ReadCameraMap(const std::string& path, const std
 }  // namespace
 
 ImageCatalog BuildImageCatalog(const std::string& images_dir, const CalibrationInput& calibration) {
-  std::error_code ec;
-  if (!fs::is_directory(images_dir, ec)) ThrowInputError(images_dir, 0, "image folder not found");
+  RequireDirectory(images_dir, "image folder", "a folder of photos");
   const fs::path dir = fs::weakly_canonical(images_dir);  // no trailing '/': parent_path() is the parent
   ImageCatalog catalog;
   catalog.files = ListFiles(dir);

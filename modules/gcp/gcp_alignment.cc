@@ -64,7 +64,7 @@ GcpAlignment AlignToGcps(GcpInput& input, std::map<uint32_t, Pose>* poses, std::
   }
   GcpAlignment a;
   std::vector<bool> drop(input.gcps.size(), false);
-  while (src.size() >= 4) {
+  while (static_cast<int>(src.size()) >= kMinGcpsToTellAnOutlier) {
     double residual = 0.0;
     const int worst = WorstOutlier(src, dst, sigma, &residual);
     if (worst < 0) break;
@@ -112,14 +112,25 @@ GcpCheck CheckGcps(const GcpInput& input, const std::map<uint32_t, Pose>& poses)
     c.errors.emplace_back(g.name, e);
     sum += e * e;
     c.max = std::max(c.max, e);
-    if (e > kGcpOutlierFactor * g.sigma) {
-      c.beyond_sigma.push_back(g.name);
-      PGBA_LOG_WARN << Where(input) << ": GCP '" << g.name << "' is " << e << " m from its coordinates with the final "
-                    << "poses, more than " << kGcpOutlierFactor << " x its sigma (" << g.sigma
-                    << " m): check its coordinates and observations";
-    }
+    if (e > kGcpOutlierFactor * g.sigma) c.beyond_sigma.push_back(g.name);
   }
   c.num_gcps = static_cast<int>(c.errors.size());
+  if (!c.beyond_sigma.empty() && c.num_gcps < kMinGcpsToTellAnOutlier) {
+    // The frame was fitted to all of them: a wrong one pulls the others off as well, and the
+    // GCPs beyond their sigma need not include it.
+    PGBA_LOG_WARN << Where(input) << ": the " << c.num_gcps << " GCPs disagree with the result by up to " << c.max
+                  << " m, more than " << kGcpOutlierFactor << " x their sigma; with fewer than "
+                  << kMinGcpsToTellAnOutlier
+                  << " GCPs the wrong one cannot be told apart: check every GCP's coordinates and observations";
+  } else {
+    for (const auto& [name, e] : c.errors) {
+      const auto it = std::find(c.beyond_sigma.begin(), c.beyond_sigma.end(), name);
+      if (it == c.beyond_sigma.end()) continue;
+      PGBA_LOG_WARN << Where(input) << ": GCP '" << name << "' is " << e << " m from its coordinates with the final "
+                    << "poses, more than " << kGcpOutlierFactor << " x its sigma: check its coordinates and "
+                    << "observations";
+    }
+  }
   c.rms = c.num_gcps ? std::sqrt(sum / c.num_gcps) : 0.0;
   return c;
 }

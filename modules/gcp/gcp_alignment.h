@@ -31,16 +31,25 @@ struct GcpAlignment {
 // would drag the whole solution (the check rms then reads hundreds of metres).
 constexpr double kGcpOutlierFactor = 20.0;
 
-// Applies the transfer to `poses` and `triplets` in place. With 4 or more triangulated GCPs,
-// outliers (above) are dropped one at a time, worst first, while 3 remain: each is named in
+// The fewest GCPs among which a wrong one can be told apart (see AlignToGcps).
+constexpr int kMinGcpsToTellAnOutlier = 5;
+
+// Applies the transfer to `poses` and `triplets` in place. With 5 or more triangulated GCPs,
+// outliers (above) are dropped one at a time, worst first, while 4 remain: each is named in
 // a warning with the file, removed from `input` (the global BA does not use it) and listed
-// in GcpAlignment::dropped. InputError naming the file if fewer than 3 GCPs can be
-// triangulated with the poses or they are (nearly) collinear.
+// in GcpAlignment::dropped. A similarity fitted to 3 GCPs has only 2 redundant equations: its
+// residuals do not measure the initial poses' own error, and a correct GCP would read as an
+// outlier (one 2.8 m from where 3 others put it, on an aerial block). With 3 or 4 GCPs the
+// final check (CheckGcps) says that they disagree. InputError naming the file if fewer than 3
+// GCPs can be triangulated with the poses or they are (nearly) collinear.
 GcpAlignment AlignToGcps(GcpInput& input, std::map<uint32_t, Pose>* poses, std::vector<LocalMotion>* triplets);
 
 // Check of a solution against the GCPs: each GCP triangulated with `poses` vs its given
-// coordinates. A GCP whose error exceeds kGcpOutlierFactor x its sigma is named in a warning
-// with the file, and listed in "beyond_sigma" of the JSON.
+// coordinates. A GCP whose error exceeds kGcpOutlierFactor x its sigma is listed in
+// "beyond_sigma" of the JSON and named in a warning with the file; with fewer than
+// kMinGcpsToTellAnOutlier GCPs, one warning says instead that they disagree and that the wrong
+// one cannot be told apart (the frame was fitted to all of them, so the GCPs beyond their
+// sigma need not include the wrong one).
 struct GcpCheck {
   int num_gcps = 0;  // triangulated
   double rms = 0.0;  // metres

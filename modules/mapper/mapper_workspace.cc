@@ -31,7 +31,7 @@ PointlessMapperResult ReadMapperWorkspace(const Reconstruction& tracks, const st
                                           const PointlessMapperOptions& options, Report* report) {
   const fs::path ws(workspace);
   auto require = [&](const fs::path& p) {
-    if (!fs::exists(p)) throw InputError(p.string() + ": missing (run `pgba init` or `pgba reconstruct` first)");
+    if (!fs::exists(p)) ThrowInputError(p.string(), 0, "missing (run `pgba init` or `pgba reconstruct` first)");
   };
   PointlessMapperResult out;
   GlobalMapperResult& initial = out.initial;
@@ -53,7 +53,7 @@ PointlessMapperResult ReadMapperWorkspace(const Reconstruction& tracks, const st
     for (const auto& [id, im] : tracks.images)
       if (!initial.init.poses.count(id)) initial.init.images_dropped.push_back(im.name);
     if (initial.init.poses.empty())
-      throw InputError((ws / "init").string() + ": no image of the tracks model (another model's workspace?)");
+      ThrowInputError((ws / "init").string(), 0, "no image of the tracks model (another model's workspace?)");
     nlohmann::json& stage = timer.Stop();
     stage["triplets"] = initial.init.triplets.size();
     stage["initial_poses"] = initial.init.poses.size();

@@ -153,11 +153,11 @@ RunOutput RunPipeline(const std::string& images_dir, const CalibrationInput& cal
     timer.Stop().update(FeatureExtractionRecord(features));
   }
   if (features.index.images.size() < 3)
-    throw InputError(images_dir + ": " + std::to_string(features.index.images.size()) +
+    ThrowInputError(images_dir, 0, std::to_string(features.index.images.size()) +
                      " usable image(s); a reconstruction needs at least 3 overlapping images");
   FrontEndGeometries geometries = MatchOrReuse(features, ws, options.matching, report, &result.tracks);
   if (result.tracks.points3D.empty())
-    throw InputError(images_dir + ": no verified matches between the images (do they overlap?)");
+    ThrowInputError(images_dir, 0, "no verified matches between the images (do they overlap?)");
 
   PointlessMapperOptions reconstruction = options.reconstruction;
   // Without a calibration file the cameras are priors (EXIF or the default focal), and a file
@@ -170,7 +170,9 @@ RunOutput RunPipeline(const std::string& images_dir, const CalibrationInput& cal
   const size_t first_pass_stage = NumStages(*report);
   Timer first_pass_timer;
   CpuTimer first_pass_cpu;
-  result.reconstruction = ReconstructFromFrontEnd(result.tracks, geometries, mapper, report);
+  // A stage's finding about the tracks ("no image pair could be verified") names the photos.
+  result.reconstruction =
+      NamingTheSource(images_dir, [&] { return ReconstructFromFrontEnd(result.tracks, geometries, mapper, report); });
   const double first_pass_seconds = first_pass_timer.Seconds(), first_pass_cpu_seconds = first_pass_cpu.Seconds();
 
   // The tracks were verified with the cameras before self-calibration; when it moved them by
@@ -192,7 +194,8 @@ RunOutput RunPipeline(const std::string& images_dir, const CalibrationInput& cal
     // The second matching verifies with the refined cameras: its geometries hold for them.
     geometries = MatchOrReuse(recalibrated, ws, options.matching, report, &result.tracks, "match_recalibrated");
     WriteFeatureIndex(out, features.index);
-    result.reconstruction = ReconstructFromFrontEnd(result.tracks, geometries, mapper, report);
+    result.reconstruction =
+        NamingTheSource(images_dir, [&] { return ReconstructFromFrontEnd(result.tracks, geometries, mapper, report); });
   }
   (*report)["rematch_shift_px"] = shift;
   // The values the run began from beside each estimated camera's (a second pass starts from

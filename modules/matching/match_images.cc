@@ -270,7 +270,6 @@ MatchingResult MatchImages(const std::string& workspace, const MatchingOptions& 
 
 void WriteMatchingResult(const std::string& workspace, const MatchingResult& result) {
   const std::filesystem::path ws(workspace);
-  WriteColmapText(result.tracks, (ws / "tracks").string());
   std::filesystem::create_directories(ws / "matching");
   WriteTwoViewGeometries(result.two_view_geometries, (ws / "matching" / "two_view_geometries.txt").string());
   std::ostringstream table;
@@ -282,6 +281,9 @@ void WriteMatchingResult(const std::string& workspace, const MatchingResult& res
           << FormatNumber("%.4g", p.check.rotation_sd_deg) << " "
           << FormatNumber("%.3f", p.check.median_triangulation_angle_deg) << " " << p.check.verdict << "\n";
   WriteStringAtomically((ws / "matching" / "pairs.txt").string(), table.str());
+  // The tracks last: what the next stage reads exists only once everything beside it is
+  // written (a full disk before leaves no tracks/ that reads as this run's result).
+  WriteColmapText(result.tracks, (ws / "tracks").string());
 }
 
 nlohmann::json TrackRecord(const Reconstruction& tracks, const TrackStats& st) {

@@ -1,14 +1,17 @@
-// The ctest driver of a fuzz target: runs every seed of pgba::fuzz::Seeds(), then
-// `--iterations` mutations of them drawn from a fixed-seed generator, so that a run is
-// reproducible (a failure names its iteration; `--only N` replays it) and takes a few
-// seconds. `--dump-seeds DIR` writes the seeds as files, the starting corpus of a libFuzzer
-// run (scripts/fuzz.sh).
+// The ctest driver of a fuzz target: runs every seed of pgba::fuzz::Seeds() and every file of
+// the target's checked-in corpus (`--corpus DIR`: tests/fuzz/corpus/<target>/, the seeds
+// and the inputs that once crashed a parser), then `--iterations` mutations of them drawn from
+// a fixed-seed generator, so that a run is reproducible (a failure names its iteration;
+// `--only N` replays it) and takes a few seconds. `--dump-seeds DIR` writes the seeds as
+// files (how the corpus was made).
+#include <algorithm>
 #include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <random>
 #include <string>
 #include <vector>
@@ -76,18 +79,37 @@ void Run(const std::string& input) {
 int main(int argc, char** argv) {
   long iterations = 2000;
   long only = -1;
-  std::string dump;
+  std::string dump, corpus;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string flag = argv[i];
     if (flag == "--iterations") iterations = std::atol(argv[i + 1]);
     else if (flag == "--only") only = std::atol(argv[i + 1]);
     else if (flag == "--dump-seeds") dump = argv[i + 1];
+    else if (flag == "--corpus") corpus = argv[i + 1];
     else {
-      std::fprintf(stderr, "usage: %s [--iterations N] [--only N] [--dump-seeds DIR]\n", argv[0]);
+      std::fprintf(stderr, "usage: %s [--iterations N] [--only N] [--dump-seeds DIR] [--corpus DIR]\n", argv[0]);
       return 2;
     }
   }
-  const std::vector<std::string> seeds = pgba::fuzz::Seeds();
+  std::vector<std::string> seeds = pgba::fuzz::Seeds();
+  if (!corpus.empty()) {
+    // Every file of the corpus, in name order (a deterministic run); a missing or empty
+    // corpus is a failure, not a run over nothing.
+    std::vector<std::filesystem::path> files;
+    std::error_code ec;
+    for (const auto& e : std::filesystem::directory_iterator(corpus, ec))
+      if (e.is_regular_file()) files.push_back(e.path());
+    if (ec || files.empty()) {
+      std::fprintf(stderr, "%s: no corpus file in %s\n", argv[0], corpus.c_str());
+      return 1;
+    }
+    std::sort(files.begin(), files.end());
+    for (const std::filesystem::path& f : files) {
+      std::ifstream in(f, std::ios::binary);
+      seeds.emplace_back(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    std::printf("%s: %zu corpus files from %s\n", argv[0], files.size(), corpus.c_str());
+  }
   if (seeds.empty()) {
     std::fprintf(stderr, "no seeds\n");
     return 1;

@@ -3,7 +3,10 @@
 #include "pgba/util/atomic_file.h"
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 #include <unistd.h>
+
+#include <csignal>
 
 #include <algorithm>
 #include <filesystem>
@@ -100,6 +103,31 @@ TEST_F(AtomicFileTest, UnwritablePathsAreInputErrors) {
   }
   EXPECT_EQ(Read(dir_ / "file"), "content");
   EXPECT_EQ(Entries(), Names({"adir", "file"}));
+}
+
+// A write the disk refuses (here a file size limit, which fails write(2) as a full disk does
+// with ENOSPC): an InputError naming the file and the system's reason; the old content and
+// no temporary are left.
+TEST_F(AtomicFileTest, AFailedWriteNamesTheFileAndItsCause) {
+  const fs::path f = dir_ / "report.html";
+  WriteStringAtomically(f, "old complete content\n");
+  rlimit before{};
+  ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &before), 0);
+  const auto previous_handler = std::signal(SIGXFSZ, SIG_IGN);  // write(2) fails with EFBIG instead
+  rlimit limited = before;
+  limited.rlim_cur = 4096;
+  ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &limited), 0);
+  std::string message;
+  try {
+    WriteStringAtomically(f, std::string(100000, 'x'));
+  } catch (const InputError& e) {
+    message = e.what();
+  }
+  ::setrlimit(RLIMIT_FSIZE, &before);
+  std::signal(SIGXFSZ, previous_handler);
+  EXPECT_EQ(message, f.string() + ": cannot write: File too large");
+  EXPECT_EQ(Read(f), "old complete content\n");
+  EXPECT_EQ(Entries(), Names({"report.html"}));
 }
 
 TEST_F(AtomicFileTest, StagedDirectoryCommitReplacesWholeDirectory) {

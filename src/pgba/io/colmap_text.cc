@@ -11,6 +11,7 @@
 #include "pgba/io/input_checks.h"
 #include "pgba/util/atomic_file.h"
 #include "pgba/util/error.h"
+#include "pgba/util/input_file.h"
 #include "pgba/util/text_reader.h"
 
 namespace pgba {
@@ -175,14 +176,13 @@ std::map<uint32_t, Camera> ReadColmapCameras(const std::string& path) {
 }
 
 Reconstruction ReadColmapText(const std::string& dir, bool points_optional) {
-  std::error_code ec;
-  if (!fs::exists(dir, ec)) ThrowInputError(dir, 0, "model directory not found");
-  if (!fs::is_directory(dir, ec)) ThrowInputError(dir, 0, "is not a directory (expected a COLMAP text model)");
+  RequireDirectory(dir, "model directory", "a COLMAP text model");
   Reconstruction rec;
   rec.cameras = ReadColmapCameras((fs::path(dir) / "cameras.txt").string());
   const std::string images_path = (fs::path(dir) / "images.txt").string();
   std::map<uint32_t, int> points2D_line;
   ReadImages(images_path, &rec, &points2D_line);
+  std::error_code ec;
   const std::string points_path = (fs::path(dir) / "points3D.txt").string();
   if (points_optional && fs::status(points_path, ec).type() == fs::file_type::not_found) {
     for (auto& [id, im] : rec.images)

@@ -36,11 +36,11 @@ void WriteDatasetLayout(const Reconstruction& gt, const std::map<std::string, st
     if (fs::path(im.name).filename().string() != im.name || im.name[0] == '.')
       throw InputError("dataset conversion: image name " + QuotedName(im.name) + " is not a plain file name");
     if (const auto [named, fresh] = id_of_name.emplace(im.name, id); !fresh)
-      throw InputError(src->second + ": listed twice (images " + std::to_string(named->second) + " and " +
+      ThrowInputError(src->second, 0, "listed twice (images " + std::to_string(named->second) + " and " +
                        std::to_string(id) + ")");
     std::error_code ec;
     if (!fs::is_regular_file(src->second, ec))
-      throw InputError(src->second + ": photo of image " + QuotedName(im.name) + " not found");
+      ThrowInputError(src->second, 0, "photo of image " + QuotedName(im.name) + " not found");
     const auto cam = gt.cameras.find(im.camera_id);
     if (cam == gt.cameras.end())
       throw InputError("dataset conversion: image " + QuotedName(im.name) + " uses unknown camera " +
@@ -58,7 +58,7 @@ void WriteDatasetLayout(const Reconstruction& gt, const std::map<std::string, st
   const fs::path images = root / "images";
   std::error_code ec;
   fs::create_directories(images, ec);
-  if (ec) throw InputError(images.string() + ": cannot create directory: " + ec.message());
+  if (ec) ThrowInputError(images.string(), 0, "cannot create directory: " + ec.message());
   for (const auto& [id, im] : poses.images) {
     const fs::path dst = images / im.name;
     const fs::path src = fs::absolute(sources.at(im.name));
@@ -70,7 +70,7 @@ void WriteDatasetLayout(const Reconstruction& gt, const std::map<std::string, st
     else
       fs::create_symlink(src, tmp, ec);
     if (!ec) fs::rename(tmp, dst, ec);
-    if (ec) throw InputError(dst.string() + ": cannot " + (options.copy_images ? "copy" : "link") + " " + src.string() +
+    if (ec) ThrowInputError(dst.string(), 0, std::string("cannot ") + (options.copy_images ? "copy" : "link") + " " + src.string() +
                              ": " + ec.message());
   }
   WriteColmapCamerasFile(poses, (root / "cameras.txt").string());

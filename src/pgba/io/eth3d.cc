@@ -44,7 +44,7 @@ Reconstruction ReadGroundTruth(const std::string& scene_dir, const Eth3dOptions&
     const std::string name = fs::path(im.name).filename().string();
     const auto [it, fresh] = first.emplace(name, im.name);
     if (!fresh)
-      throw InputError((calib / "images.txt").string() + ": images '" + it->second + "' and '" + im.name +
+      ThrowInputError((calib / "images.txt").string(), 0, "images '" + it->second + "' and '" + im.name +
                        "' have the same file name");
     (*originals)[id] = im.name;
     im.name = name;

@@ -39,7 +39,7 @@ Reconstruction ReadSequence(const std::string& sequence_dir, const Eth3dSlamOpti
       gt[v[0]] = Pose::FromRC(q_wc.normalized().toRotationMatrix().transpose(), Eigen::Vector3d(v[1], v[2], v[3]));
     }
   }
-  if (gt.empty()) throw InputError((dir / "groundtruth.txt").string() + ": no ground-truth line");
+  if (gt.empty()) ThrowInputError((dir / "groundtruth.txt").string(), 0, "no ground-truth line");
 
   Reconstruction rec;
   Camera cam;
@@ -72,7 +72,7 @@ Reconstruction ReadSequence(const std::string& sequence_dir, const Eth3dSlamOpti
     if (!sources->emplace(im.name, (dir / tok[1]).string()).second) r.Fail("frame " + im.name + " listed twice");
     rec.images[im.image_id] = im;
   }
-  if (rec.images.empty()) throw InputError(r.path() + ": no frame with ground truth");
+  if (rec.images.empty()) ThrowInputError(r.path(), 0, "no frame with ground truth");
   if (const std::string problem = CheckCamera(cam); !problem.empty())
     ThrowInputError((dir / "calibration.txt").string(), 0, problem + " (the size is the first photo's)");
   rec.cameras[1] = cam;

@@ -56,7 +56,7 @@ std::vector<std::string> ImageNames(const TanksAndTemplesInput& in) {
     return names;
   }
   std::error_code ec;
-  if (!fs::is_directory(in.images_dir, ec)) throw InputError(in.images_dir + ": not a directory");
+  if (!fs::is_directory(in.images_dir, ec)) ThrowInputError(in.images_dir, 0, "not a directory");
   // error_code overloads: an entry that cannot be stat'ed (a symlink loop) is named in one
   // line, not a raw filesystem_error.
   fs::directory_iterator it(in.images_dir, ec), end;
@@ -70,7 +70,7 @@ std::vector<std::string> ImageNames(const TanksAndTemplesInput& in) {
   }
   if (ec) ThrowInputError(in.images_dir, 0, "cannot list the folder: " + ec.message());
   std::sort(names.begin(), names.end());
-  if (names.empty()) throw InputError(in.images_dir + ": no .jpg/.jpeg/.png photo");
+  if (names.empty()) ThrowInputError(in.images_dir, 0, "no .jpg/.jpeg/.png photo");
   return names;
 }
 

@@ -1,10 +1,12 @@
 #include "pgba/util/atomic_file.h"
 
+#include <fcntl.h>
 #include <signal.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstdint>
+#include <cstring>
 #include <regex>
 
 #include <atomic>
@@ -71,6 +73,54 @@ void CreateParent(const fs::path& path) {
   if (ec) ThrowInputError(path.string(), 0, "cannot create directory " + path.parent_path().string() + ": " + ec.message());
 }
 
+// An output stream buffer over a file descriptor that keeps the errno of the first failed
+// write (or close), so that a failed output names its cause: "No space left on device" for a
+// full disk, "File too large", "Input/output error". std::ofstream keeps only a failbit.
+class FileWriteBuffer : public std::streambuf {
+ public:
+  explicit FileWriteBuffer(int fd) : fd_(fd) { setp(buffer_, buffer_ + sizeof(buffer_)); }
+  ~FileWriteBuffer() override {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  FileWriteBuffer(const FileWriteBuffer&) = delete;
+  FileWriteBuffer& operator=(const FileWriteBuffer&) = delete;
+
+  // Writes what is buffered and closes the file; the errno of the first failure, 0 if none.
+  int Close() {
+    WriteBuffered();
+    if (fd_ >= 0 && ::close(fd_) != 0 && error_ == 0) error_ = errno;
+    fd_ = -1;
+    return error_;
+  }
+
+ protected:
+  int_type overflow(int_type c) override {
+    if (!WriteBuffered()) return traits_type::eof();
+    if (!traits_type::eq_int_type(c, traits_type::eof())) {
+      *pptr() = traits_type::to_char_type(c);
+      pbump(1);
+    }
+    return traits_type::not_eof(c);
+  }
+  int sync() override { return WriteBuffered() ? 0 : -1; }
+
+ private:
+  bool WriteBuffered() {
+    for (const char* p = pbase(); error_ == 0 && p < pptr();) {
+      const ssize_t n = ::write(fd_, p, static_cast<size_t>(pptr() - p));
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) error_ = n < 0 ? errno : EIO;
+      else p += n;
+    }
+    setp(buffer_, buffer_ + sizeof(buffer_));
+    return error_ == 0;
+  }
+
+  int fd_;
+  int error_ = 0;
+  char buffer_[1 << 16];
+};
+
 }  // namespace
 
 void WriteFileAtomically(const fs::path& path, const std::function<void(std::ostream&)>& writer) {
@@ -78,13 +128,19 @@ void WriteFileAtomically(const fs::path& path, const std::function<void(std::ost
   CreateParent(target);
   std::error_code ec;
   const fs::path tmp = Sibling(target, "tmp");
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  if (fd < 0) ThrowInputError(target.string(), 0, std::string("cannot open for writing: ") + std::strerror(errno));
   try {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) ThrowInputError(target.string(), 0, "cannot open for writing");
-    writer(out);
-    out.flush();
-    out.close();
-    if (!out) throw std::runtime_error(target.string() + ": write failed (disk full?)");
+    {
+      FileWriteBuffer buffer(fd);
+      std::ostream out(&buffer);
+      writer(out);
+      // A full disk or a file size limit: the file is not written, and the error names it
+      // (exit code 2, as for any output path the user's system cannot take).
+      if (const int error = buffer.Close(); error != 0)
+        ThrowInputError(target.string(), 0, std::string("cannot write: ") + std::strerror(error));
+      if (!out) ThrowInputError(target.string(), 0, "cannot write: the output stream failed");
+    }
     fs::rename(tmp, target, ec);
     if (ec) ThrowInputError(target.string(), 0, "cannot replace file: " + ec.message());
   } catch (...) {

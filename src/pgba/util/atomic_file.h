@@ -3,8 +3,9 @@
 // Files are written to "<path>.tmp.<pid>.<n>" and renamed over <path> (rename(2) is atomic
 // on one file system). Directories of several files (a COLMAP model) are written into
 // "<dir>.tmp.<pid>.<n>/" and swapped in as a whole by StagedDirectory::Commit.
-// A path that cannot be written (parent is a file, no permission, path is a directory) is
-// an InputError naming it: the user chose that output path.
+// A path that cannot be written (parent is a file, no permission, path is a directory) or a
+// write that fails (a full disk, a file size limit) is an InputError "PATH: cannot ...: cause"
+// naming it: the user chose that output path, and the run ends with exit code 2.
 #pragma once
 
 #include <filesystem>
@@ -16,8 +17,8 @@ namespace pgba {
 
 // Writes `path` atomically: `writer` fills the stream; on exception or stream failure the
 // temporary is removed, the previous content of `path` (if any) is left untouched, and the
-// exception propagates (the writer's own, InputError for an unwritable path,
-// std::runtime_error for a failed write).
+// exception propagates (the writer's own, or InputError for an unwritable path or a failed
+// write, with the system's reason: "No space left on device").
 void WriteFileAtomically(const std::filesystem::path& path,
                          const std::function<void(std::ostream&)>& writer);
 

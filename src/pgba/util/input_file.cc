@@ -22,6 +22,14 @@ void RequireRegularFile(const std::string& path) {
     ThrowInputError(path, 0, "is not a regular file (FIFO, socket or device), refusing to read it");
 }
 
+void RequireDirectory(const std::string& path, const std::string& what, const std::string& what_expected) {
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (status.type() == fs::file_type::not_found) ThrowInputError(path, 0, what + " not found");
+  if (ec) ThrowInputError(path, 0, "cannot access: " + ec.message());
+  if (status.type() != fs::file_type::directory) ThrowInputError(path, 0, "is not a directory (expected " + what_expected + ")");
+}
+
 std::string ReadRegularFile(const std::string& path) {
   RequireRegularFile(path);
   std::ifstream in(path, std::ios::binary);

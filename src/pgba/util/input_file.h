@@ -11,6 +11,11 @@ namespace pgba {
 // file (FIFO, socket or device)" / "cannot access file: ...".
 void RequireRegularFile(const std::string& path);
 
+// An input folder the user named: InputError "PATH: WHAT not found" / "cannot access: Too
+// many levels of symbolic links" (a link loop, no permission) / "is not a directory
+// (expected WHAT_EXPECTED)".
+void RequireDirectory(const std::string& path, const std::string& what, const std::string& what_expected);
+
 // The whole content of a regular file (RequireRegularFile, then InputError on a read error).
 std::string ReadRegularFile(const std::string& path);
 
