@@ -42,14 +42,37 @@ void RequireEnoughImages(const Reconstruction& tracks, const std::string& source
                     std::to_string(tracks.images.size()) + " image(s); a reconstruction needs at least 3 images");
 }
 
+namespace {
+
+// The whole of `text` as one number into `v`: "" when it is, else the problem.
+std::string ParseNumber(const std::string& text, double* v) {
+  char* end = nullptr;
+  *v = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size()) return "expected a number, got '" + text + "'";
+  return "";
+}
+
+// A finite number that satisfies `ok`, described as `bound` ("> 0").
+CLI::Validator FiniteNumber(bool (*ok)(double), const std::string& bound, const std::string& name) {
+  return CLI::Validator(
+      [ok, bound](std::string& text) -> std::string {
+        double v = 0.0;
+        if (std::string problem = ParseNumber(text, &v); !problem.empty()) return problem;
+        if (!std::isfinite(v)) return "expected a finite number, got '" + text + "'";
+        return ok(v) ? "" : "must be " + bound + ", got '" + text + "'";
+      },
+      bound, name);
+}
+
+}  // namespace
+
 CLI::Validator InConfigRange(const std::string& key) {
   const std::optional<OptionRange> range = RangeOfOption(key);
   if (!range) throw std::logic_error("InConfigRange: no range for " + key + " in io/option_ranges.cc");
   return CLI::Validator(
       [range = *range, key](std::string& text) -> std::string {
-        char* end = nullptr;
-        const double v = std::strtod(text.c_str(), &end);
-        if (text.empty() || end != text.c_str() + text.size()) return "expected a number, got '" + text + "'";
+        double v = 0.0;
+        if (std::string problem = ParseNumber(text, &v); !problem.empty()) return problem;
         if (!range.Contains(v)) return text + " is out of range (" + range.Describe() + "; config key " + key + ")";
         return "";
       },
@@ -57,27 +80,11 @@ CLI::Validator InConfigRange(const std::string& key) {
 }
 
 CLI::Validator PositiveNumber() {
-  return CLI::Validator(
-      [](std::string& text) -> std::string {
-        char* end = nullptr;
-        const double v = std::strtod(text.c_str(), &end);
-        if (text.empty() || end != text.c_str() + text.size()) return "expected a number, got '" + text + "'";
-        if (!std::isfinite(v)) return "expected a finite number, got '" + text + "'";
-        return v > 0 ? "" : "must be > 0, got '" + text + "'";
-      },
-      "> 0", "POSITIVE");
+  return FiniteNumber([](double v) { return v > 0; }, "> 0", "POSITIVE");
 }
 
 CLI::Validator NonNegativeNumber() {
-  return CLI::Validator(
-      [](std::string& text) -> std::string {
-        char* end = nullptr;
-        const double v = std::strtod(text.c_str(), &end);
-        if (text.empty() || end != text.c_str() + text.size()) return "expected a number, got '" + text + "'";
-        if (!std::isfinite(v)) return "expected a finite number, got '" + text + "'";
-        return v >= 0 ? "" : "must be >= 0, got '" + text + "'";
-      },
-      ">= 0", "NONNEGATIVE");
+  return FiniteNumber([](double v) { return v >= 0; }, ">= 0", "NONNEGATIVE");
 }
 
 // The one parser of command-line numbers: every floating-point option is held to a finite

@@ -75,4 +75,31 @@ nlohmann::json DroppedImagesJson(const std::vector<DroppedImage>& dropped) {
   return out;
 }
 
+nlohmann::json ImageFates(const Reconstruction& tracks, const PointlessMapperResult& r,
+                          const std::vector<DroppedImage>& dropped) {
+  const std::vector<const Reconstruction*> models = r.Models();
+  std::map<std::string, std::string> reasons;
+  for (const DroppedImage& d : dropped) reasons[d.name] = d.reason;
+  std::map<uint32_t, const ImageVerdict*> reregistered;
+  for (const ImageVerificationResult* v : r.Verifications())
+    for (const ImageVerdict& d : v->verdicts)
+      if (d.status == ImageVerdictStatus::kReregistered) reregistered[d.image_id] = &d;
+  nlohmann::json fates = nlohmann::json::array();
+  for (const auto& [id, image] : tracks.images) {
+    nlohmann::json f = {{"image", image.name}, {"model", nullptr}};
+    for (size_t m = 0; m < models.size() && f["model"].is_null(); ++m)
+      if (models[m]->images.count(id)) {
+        f["model"] = m;
+        f["registered_by"] = r.joining.joined.count(id) ? "absolute_pose" : "triplets";
+        if (const auto v = reregistered.find(id); v != reregistered.end()) f["registered_again"] = v->second->reason;
+      }
+    if (f["model"].is_null()) {
+      const auto reason = reasons.find(image.name);
+      f["reason"] = reason != reasons.end() ? reason->second : "in no model";
+    }
+    fates.push_back(f);
+  }
+  return fates;
+}
+
 }  // namespace pgba

@@ -1,5 +1,6 @@
 // The images a reconstruction left out, each with the stage that left it out in words a user
-// can act on: the console's one warning line and report.json's "images_dropped_reason".
+// can act on: the console's one warning line, report.json's "images_dropped_reason" and the
+// reasons of its "image_fates".
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -24,6 +25,13 @@ std::vector<DroppedImage> DroppedImages(const Reconstruction& tracks, const Poin
 // One line: how many of `num_images` were left out, their names grouped by reason, and what to
 // try; "" when none was.
 std::string DroppedImagesSummary(const std::vector<DroppedImage>& dropped, size_t num_images);
+
+// Every image of `tracks` with its fate in `result`: {"image", "model" (index, or null),
+// "registered_by" ("triplets", "absolute_pose"), "registered_again" (the failed check's reason),
+// or "reason" (why in no model: `dropped`'s, the DroppedImages of `result`)}; report.json's
+// "image_fates".
+nlohmann::json ImageFates(const Reconstruction& tracks, const PointlessMapperResult& result,
+                          const std::vector<DroppedImage>& dropped);
 
 // {name: reason} in name order.
 nlohmann::json DroppedImagesJson(const std::vector<DroppedImage>& dropped);

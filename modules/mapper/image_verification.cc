@@ -192,6 +192,25 @@ ImageVerificationResult VerifyRegisteredImages(const Reconstruction& tracks, con
   return out;
 }
 
+void KeepFirstVerdicts(const ImageVerificationResult& first, ImageVerificationResult* second) {
+  std::map<uint32_t, size_t> index;
+  for (size_t i = 0; i < second->verdicts.size(); ++i) index[second->verdicts[i].image_id] = i;
+  for (const ImageVerdict& d : first.verdicts) {
+    if (d.status == ImageVerdictStatus::kVerified) continue;
+    const auto it = index.find(d.image_id);
+    if (it == index.end()) {
+      second->verdicts.push_back(d);
+    } else if (second->verdicts[it->second].status == ImageVerdictStatus::kVerified) {
+      second->verdicts[it->second] = d;
+    } else {
+      continue;
+    }
+    (d.status == ImageVerdictStatus::kDropped ? second->num_dropped : second->num_reregistered) += 1;
+  }
+  std::sort(second->verdicts.begin(), second->verdicts.end(),
+            [](const ImageVerdict& a, const ImageVerdict& b) { return a.image_id < b.image_id; });
+}
+
 nlohmann::json ImageVerificationResult::ToJson(const Reconstruction& tracks) const {
   nlohmann::json images = nlohmann::json::array();
   for (const ImageVerdict& v : verdicts) {

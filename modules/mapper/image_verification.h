@@ -105,6 +105,12 @@ ImageEvidence MeasureImageEvidence(const Reconstruction& tracks, const std::vect
 // Empty when `evidence` passes the criteria, else the reason in a user's words.
 std::string VerificationFailure(const ImageEvidence& evidence, const ImageVerificationOptions& options);
 
+// After a second verification of a model adjusted again: the first one's verdicts on the images
+// it did not verify at once (dropped, or registered again) in place of the second's on the same
+// images (or added, for an image the second did not see), counts updated: a record of what
+// happened to each image.
+void KeepFirstVerdicts(const ImageVerificationResult& first, ImageVerificationResult* second);
+
 // Every image of `poses` verified; the failing ones registered again or dropped (above).
 // Deterministic for any thread count.
 ImageVerificationResult VerifyRegisteredImages(const Reconstruction& tracks, const std::vector<TwoViewGeometry>& pairs,

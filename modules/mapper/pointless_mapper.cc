@@ -363,27 +363,6 @@ void VerifyImages(const Reconstruction& tracks, const std::vector<TwoViewGeometr
 // such an image bent the adjustment of the others, which is then done again without them.
 bool VerificationChanged(const ImageVerificationResult& v) { return v.num_dropped + v.num_reregistered > 0; }
 
-// The first verification's verdicts on the images it did not verify at once (dropped, or
-// registered again), in place of the second's on the same images: a record of what happened.
-void KeepFirstVerdicts(const ImageVerificationResult& first, ImageVerificationResult* second) {
-  std::map<uint32_t, size_t> index;
-  for (size_t i = 0; i < second->verdicts.size(); ++i) index[second->verdicts[i].image_id] = i;
-  for (const ImageVerdict& d : first.verdicts) {
-    if (d.status == ImageVerdictStatus::kVerified) continue;
-    const auto it = index.find(d.image_id);
-    if (it == index.end()) {
-      second->verdicts.push_back(d);
-    } else if (second->verdicts[it->second].status == ImageVerdictStatus::kVerified) {
-      second->verdicts[it->second] = d;
-    } else {
-      continue;
-    }
-    (d.status == ImageVerdictStatus::kDropped ? second->num_dropped : second->num_reregistered) += 1;
-  }
-  std::sort(second->verdicts.begin(), second->verdicts.end(),
-            [](const ImageVerdict& a, const ImageVerdict& b) { return a.image_id < b.image_id; });
-}
-
 // Step 8, continued: when the verification dropped an image or registered one again, the model
 // adjusted again (steps 5 and 7) from the verified poses without the dropped images, and
 // verified once more. An adjustment that fails (too few images left to it) leaves the first
@@ -439,9 +418,10 @@ Reconstruction Triangulate(const Reconstruction& tracks, const RefinementResult&
 // The images of the result and the ones left out on the way (report keys).
 void RecordImages(const Reconstruction& tracks, const PointlessMapperResult& r, Report* report) {
   // The commands print the images left out once, at their end (a run may reconstruct twice).
-  const std::string summary = DroppedImagesSummary(DroppedImages(tracks, r), tracks.images.size());
+  const std::vector<DroppedImage> left_out = DroppedImages(tracks, r);
+  const std::string summary = DroppedImagesSummary(left_out, tracks.images.size());
   if (!summary.empty()) PGBA_LOG_DEBUG << summary;
-  const nlohmann::json fates = ImageFates(tracks, r);
+  const nlohmann::json fates = ImageFates(tracks, r, left_out);
   std::vector<std::string> dropped;
   size_t registered = 0;
   for (const nlohmann::json& f : fates) {
@@ -647,32 +627,6 @@ bool PointlessMapperResult::Placed(uint32_t image_id) const {
   if (refined.poses.count(image_id)) return true;
   return std::any_of(more_models.begin(), more_models.end(),
                      [&](const ComponentModel& m) { return m.refined.poses.count(image_id) > 0; });
-}
-
-nlohmann::json ImageFates(const Reconstruction& tracks, const PointlessMapperResult& r) {
-  const std::vector<const Reconstruction*> models = r.Models();
-  std::map<std::string, std::string> reasons;
-  for (const DroppedImage& d : DroppedImages(tracks, r)) reasons[d.name] = d.reason;
-  std::map<uint32_t, const ImageVerdict*> reregistered;
-  for (const ImageVerificationResult* v : r.Verifications())
-    for (const ImageVerdict& d : v->verdicts)
-      if (d.status == ImageVerdictStatus::kReregistered) reregistered[d.image_id] = &d;
-  nlohmann::json fates = nlohmann::json::array();
-  for (const auto& [id, image] : tracks.images) {
-    nlohmann::json f = {{"image", image.name}, {"model", nullptr}};
-    for (size_t m = 0; m < models.size() && f["model"].is_null(); ++m)
-      if (models[m]->images.count(id)) {
-        f["model"] = m;
-        f["registered_by"] = r.joining.joined.count(id) ? "absolute_pose" : "triplets";
-        if (const auto v = reregistered.find(id); v != reregistered.end()) f["registered_again"] = v->second->reason;
-      }
-    if (f["model"].is_null()) {
-      const auto reason = reasons.find(image.name);
-      f["reason"] = reason != reasons.end() ? reason->second : "in no model";
-    }
-    fates.push_back(f);
-  }
-  return fates;
 }
 
 GlobalMapperResult RunGlobalMapper(const Reconstruction& tracks, const GlobalMapperOptions& options, Report* report,

@@ -96,10 +96,6 @@ struct PointlessMapperResult {
   bool Placed(uint32_t image_id) const;
 };
 
-// Every image of `tracks` with its fate in `result`: {"image", "model" (index, or null), "registered_by"
-// ("triplets", "absolute_pose"), or "reason" (why in no model)}; report.json's "image_fates".
-nlohmann::json ImageFates(const Reconstruction& tracks, const PointlessMapperResult& result);
-
 class PointlessMapper {
  public:
   // std::invalid_argument for options that fail Check().

@@ -116,5 +116,37 @@ TEST(ImageVerification, AnImageItsPairsContradictIsDroppedWithTheReason) {
   EXPECT_EQ(j["images"][0]["status"], "dropped");
 }
 
+// The record after a model is adjusted again and verified once more: the first round's verdict
+// on an image it dropped (absent from the second) or registered again (verified in the second)
+// stands, with the counts; the second's own failures stay.
+TEST(ImageVerification, KeepFirstVerdictsRecordsWhatHappenedToEachImage) {
+  const auto verdict = [](uint32_t id, ImageVerdictStatus status, const std::string& reason) {
+    ImageVerdict v;
+    v.image_id = id;
+    v.status = status;
+    v.reason = reason;
+    return v;
+  };
+  ImageVerificationResult first, second;
+  first.verdicts = {verdict(1, ImageVerdictStatus::kVerified, ""), verdict(2, ImageVerdictStatus::kReregistered, "moved"),
+                    verdict(3, ImageVerdictStatus::kDropped, "bent"), verdict(4, ImageVerdictStatus::kDropped, "first")};
+  first.num_reregistered = 1;
+  first.num_dropped = 2;
+  // Image 3 left out of the second round; image 4 dropped again there with its own reason.
+  second.verdicts = {verdict(1, ImageVerdictStatus::kVerified, ""), verdict(2, ImageVerdictStatus::kVerified, ""),
+                     verdict(4, ImageVerdictStatus::kDropped, "second")};
+  second.num_dropped = 1;
+  KeepFirstVerdicts(first, &second);
+  ASSERT_EQ(second.verdicts.size(), 4u);
+  EXPECT_EQ(second.verdicts[0].status, ImageVerdictStatus::kVerified);
+  EXPECT_EQ(second.verdicts[1].status, ImageVerdictStatus::kReregistered);
+  EXPECT_EQ(second.verdicts[1].reason, "moved");
+  EXPECT_EQ(second.verdicts[2].image_id, 3u);
+  EXPECT_EQ(second.verdicts[2].reason, "bent");
+  EXPECT_EQ(second.verdicts[3].reason, "second");
+  EXPECT_EQ(second.num_reregistered, 1);
+  EXPECT_EQ(second.num_dropped, 2);
+}
+
 }  // namespace
 }  // namespace pgba

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "pgba/util/error.h"
+
 namespace pgba {
 
 std::string CheckCamera(const Camera& cam) {
@@ -40,18 +42,7 @@ std::string CheckImageName(const std::string& name) {
 }
 
 std::string QuotedName(const std::string& name) {
-  std::string out = "'";
-  for (unsigned char c : name.substr(0, 200)) {
-    if (c >= 0x20 && c != 0x7f) {
-      out += static_cast<char>(c);
-    } else {
-      char buf[8];
-      std::snprintf(buf, sizeof(buf), "\\x%02x", c);
-      out += buf;
-    }
-  }
-  if (name.size() > 200) out += "...";
-  return out + "'";
+  return "'" + OneLine(name.substr(0, 200)) + (name.size() > 200 ? "..." : "") + "'";
 }
 
 }  // namespace pgba

@@ -87,20 +87,8 @@ int64_t TextReader::ToInt(const std::string& token, const char* what) const {
 }
 
 std::string TextReader::Printable(const std::string& token) {
-  // Messages are one line: control bytes of a corrupt file are shown escaped, and very long
-  // tokens are cut.
-  std::string out;
-  for (unsigned char c : token.substr(0, 40)) {
-    if (c >= 0x20 && c != 0x7f) {
-      out += static_cast<char>(c);
-    } else {
-      char buf[8];
-      std::snprintf(buf, sizeof(buf), "\\x%02x", c);
-      out += buf;
-    }
-  }
-  if (token.size() > 40) out += "...";
-  return out;
+  // Messages are one line (control bytes of a corrupt file shown escaped), very long tokens cut.
+  return OneLine(token.substr(0, 40)) + (token.size() > 40 ? "..." : "");
 }
 
 void TextReader::RequireTokens(const std::vector<std::string>& tokens, size_t n, const char* what) const {
