@@ -2,6 +2,7 @@
 
 #include "modules/global_ba/motion_term_system.h"
 #include "modules/global_ba/pose_system.h"
+#include "pgba/util/timer.h"
 
 #include <tbb/parallel_for.h>
 
@@ -64,11 +65,11 @@ struct TermIndex {
 // H_k,sim H_sim^-1 H_sim,l), the right-hand side -g + H_x,sim H_sim^-1 g_sim, and each term's
 // H_sim^-1.
 void AssembleReduced(const MotionBlockProblem& p, const std::vector<TermSystem>& sys,
-                     const std::vector<TermIndex>& index, const std::vector<Matrix6d>& pose_blocks,
+                     const std::vector<TermIndex>& index, const std::vector<double>& pose_blocks,
                      const Eigen::VectorXd& gradient, double radius, internal::PoseSystem* system,
                      Eigen::VectorXd* rhs, std::vector<Matrix7d>* Hss_inv) {
-  system->Zero();
-  for (size_t b = 0; b < pose_blocks.size(); ++b) system->block(static_cast<int>(b)) = pose_blocks[b];
+  system->Load(pose_blocks);
+  double* values = system->values();
   *rhs = -gradient;
   Hss_inv->resize(p.terms.size());
   for (size_t ti = 0; ti < p.terms.size(); ++ti) {
@@ -85,7 +86,8 @@ void AssembleReduced(const MotionBlockProblem& p, const std::vector<TermSystem>&
     for (int k = 0; k < n; ++k) {
       for (int l = 0; l < n; ++l) {
         if (t.poses[k] < t.poses[l]) continue;  // lower triangle by pose index
-        system->block(ix.block_of[k * n + l]).noalias() -= M.middleRows<6>(6 * k) * s.Hps.middleRows<6>(6 * l).transpose();
+        const Matrix6d correction = -M.middleRows<6>(6 * k) * s.Hps.middleRows<6>(6 * l).transpose();
+        system->AddBlock(ix.block_of[k * n + l], correction, values);
       }
       for (int c = 0; c < 6; ++c) {
         const int v = system->var(t.poses[k], c);
@@ -130,6 +132,7 @@ MotionBlockSummary SolveMotionBlocks(const MotionBlockProblem& p, const MotionBl
       for (int i = 0; i < p.intrinsics[b]->size(); ++i) index[ti].kvar.push_back(system.intrinsic_var(b, i));
   }
 
+  ReleaseFreeMemory();  // the pattern's construction: before the factor takes its place
   double cost = MotionBlockCost(p);
   summary.initial_cost = summary.final_cost = cost;
   if (!std::isfinite(cost)) {
@@ -146,14 +149,15 @@ MotionBlockSummary SolveMotionBlocks(const MotionBlockProblem& p, const MotionBl
   bool relinearize = true;
   Eigen::VectorXd gradient(system.num_free()), diagonal(system.num_free());
   // The sum over the motions of their pose-pair blocks H_kl, one per block of the pose system.
-  std::vector<Matrix6d> pose_blocks(system.num_blocks());
+  // (In the system's value layout: PoseSystem::AddBlock.)
+  std::vector<double> pose_blocks(system.num_values());
   // Linearises every term at the current state: the gradient, diag(J^T J) per variable and the
   // pose blocks. A term's H_kl (N^2 blocks, as many doubles as its h) are summed into the pose
   // blocks and released chunk by chunk: together they would hold a second copy of every h.
   const auto linearize_all = [&]() {
     gradient.setZero();
     diagonal.setZero();
-    for (Matrix6d& b : pose_blocks) b.setZero();
+    std::fill(pose_blocks.begin(), pose_blocks.end(), 0.0);
     constexpr size_t kChunk = 256;
     for (size_t begin = 0; begin < p.terms.size(); begin += kChunk) {
       const size_t end = std::min(p.terms.size(), begin + kChunk);
@@ -171,7 +175,8 @@ MotionBlockSummary SolveMotionBlocks(const MotionBlockProblem& p, const MotionBl
             diagonal(v) += sys[ti].Hpp[k * n + k](c, c);
           }
           for (size_t l = 0; l < n; ++l)  // lower triangle by pose index
-            if (t.poses[k] >= t.poses[l]) pose_blocks[index[ti].block_of[k * n + l]] += sys[ti].Hpp[k * n + l];
+            if (t.poses[k] >= t.poses[l])
+              system.AddBlock(index[ti].block_of[k * n + l], sys[ti].Hpp[k * n + l], pose_blocks.data());
         }
         std::vector<Matrix6d>().swap(sys[ti].Hpp);
         for (size_t i = 0; i < index[ti].kvar.size(); ++i) {
@@ -187,6 +192,7 @@ MotionBlockSummary SolveMotionBlocks(const MotionBlockProblem& p, const MotionBl
     if (relinearize) {
       linearize_all();
       relinearize = false;
+      ReleaseFreeMemory();  // the motions' pose-pair blocks, summed and freed chunk by chunk
     }
     // Damped reduced system: each motion's similarity eliminated with its damped 7 x 7 block.
     AssembleReduced(p, sys, index, pose_blocks, gradient, radius, &system, &rhs, &Hss_inv);

@@ -1,6 +1,7 @@
 #include "modules/global_ba/pose_system.h"
 
 #include <algorithm>
+#include <utility>
 
 namespace pgba {
 namespace internal {
@@ -31,22 +32,56 @@ PoseSystem::PoseSystem(const MotionBlockProblem& p) {
         if (a > b) pairs.emplace_back(a, b);
   std::sort(pairs.begin(), pairs.end());
   pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-  pairs_ = pairs;
-  blocks_.assign(pairs_.size(), Matrix6d::Zero());
-  if (dense()) return;  // the sparse structure serves only the sparse factorisation
-  std::vector<Eigen::Triplet<double>> entries;
-  for (const auto& [a, b] : pairs_)
-    for (int r = 0; r < 6; ++r)
-      for (int c = 0; c < 6; ++c) {
-        const int vr = var_[6 * a + r], vc = var_[6 * b + c];
-        if (vr >= 0 && vc >= 0 && vr >= vc) entries.emplace_back(vr, vc, 1.0);
-      }
-  for (int r = num_pose_vars_; r < num_free_; ++r)
-    for (int c = 0; c <= r; ++c) entries.emplace_back(r, c, 1.0);  // border and corner: dense
-  matrix_.resize(num_free_, num_free_);
-  matrix_.setFromTriplets(entries.begin(), entries.end());
-  matrix_.makeCompressed();
+  pairs_ = std::move(pairs);
   value_index_.resize(pairs_.size());
+  if (dense()) {  // the dense matrix, column by column
+    dense_.setZero(num_free_, num_free_);
+    value_size_ = static_cast<size_t>(num_free_) * num_free_;
+    for (size_t k = 0; k < pairs_.size(); ++k) {
+      const auto [a, b] = pairs_[k];
+      for (int r = 0; r < 6; ++r)
+        for (int c = 0; c < 6; ++c) {
+          const int vr = var_[6 * a + r], vc = var_[6 * b + c];
+          value_index_[k][6 * r + c] = vr >= 0 && vc >= 0 && vr >= vc ? vc * num_free_ + vr : -1;
+        }
+    }
+    return;
+  }
+  // The sparse pattern built column by column: the pairs are sorted by (a, b), so the lower
+  // triangle's columns of pose b are met in order per a; counting first keeps the one copy.
+  std::vector<int> count(num_free_ + 1, 0);
+  for (const auto& [a, b] : pairs_)
+    for (int c = 0; c < 6; ++c) {
+      const int vc = var_[6 * b + c];
+      if (vc < 0) continue;
+      for (int r = 0; r < 6; ++r) {
+        const int vr = var_[6 * a + r];
+        if (vr >= 0 && vr >= vc) ++count[vc + 1];
+      }
+    }
+  for (int c = 0; c < num_pose_vars_; ++c) count[c + 1] += num_intrinsic_vars_;  // the border
+  for (int c = num_pose_vars_; c < num_free_; ++c) count[c + 1] += num_free_ - c;  // the corner
+  for (int c = 0; c < num_free_; ++c) count[c + 1] += count[c];
+  matrix_.resize(num_free_, num_free_);
+  matrix_.resizeNonZeros(count[num_free_]);
+  std::copy(count.begin(), count.end(), matrix_.outerIndexPtr());
+  std::vector<int> next(count.begin(), count.end() - 1);
+  int* inner = matrix_.innerIndexPtr();
+  for (const auto& [a, b] : pairs_)
+    for (int c = 0; c < 6; ++c) {
+      const int vc = var_[6 * b + c];
+      if (vc < 0) continue;
+      for (int r = 0; r < 6; ++r) {
+        const int vr = var_[6 * a + r];
+        if (vr >= 0 && vr >= vc) inner[next[vc]++] = vr;
+      }
+    }
+  for (int c = 0; c < num_free_; ++c) {
+    for (int r = std::max(c, num_pose_vars_); r < num_free_; ++r) inner[next[c]++] = r;
+    std::sort(inner + count[c], inner + count[c + 1]);
+  }
+  std::fill(matrix_.valuePtr(), matrix_.valuePtr() + matrix_.nonZeros(), 0.0);
+  value_size_ = static_cast<size_t>(matrix_.nonZeros());
   for (size_t k = 0; k < pairs_.size(); ++k) {
     const auto [a, b] = pairs_[k];
     for (int r = 0; r < 6; ++r)
@@ -58,18 +93,15 @@ PoseSystem::PoseSystem(const MotionBlockProblem& p) {
   solver_.analyzePattern(matrix_);
 }
 
+void PoseSystem::Load(const std::vector<double>& values) {
+  std::copy(values.begin(), values.end(), this->values());
+  border_.setZero();
+  corner_.setZero();
+}
+
 bool PoseSystem::Factorize(const Eigen::VectorXd& diagonal) {
   const int P = num_pose_vars_;
   if (dense()) {
-    dense_.setZero(num_free_, num_free_);
-    for (size_t k = 0; k < pairs_.size(); ++k) {
-      const auto [a, b] = pairs_[k];
-      for (int r = 0; r < 6; ++r)
-        for (int c = 0; c < 6; ++c) {
-          const int vr = var_[6 * a + r], vc = var_[6 * b + c];
-          if (vr >= 0 && vc >= 0 && vr >= vc) dense_(vr, vc) += blocks_[k](r, c);
-        }
-    }
     dense_.bottomLeftCorner(num_intrinsic_vars_, P) = border_;
     dense_.bottomRightCorner(num_intrinsic_vars_, num_intrinsic_vars_) = corner_;
     dense_.diagonal() += diagonal;
@@ -77,15 +109,11 @@ bool PoseSystem::Factorize(const Eigen::VectorXd& diagonal) {
     return dense_llt_.info() == Eigen::Success;
   }
   double* values = matrix_.valuePtr();
-  std::fill(values, values + matrix_.nonZeros(), 0.0);
-  for (size_t k = 0; k < pairs_.size(); ++k)
-    for (int e = 0; e < 36; ++e)
-      if (value_index_[k][e] >= 0) values[value_index_[k][e]] += blocks_[k](e / 6, e % 6);
   for (int r = P; r < num_free_; ++r) {
     for (int c = 0; c < P; ++c) values[Index(r, c)] += border_(r - P, c);
     for (int c = P; c <= r; ++c) values[Index(r, c)] += corner_(r - P, c - P);
   }
-  for (int i = 0; i < num_free_; ++i) matrix_.coeffRef(i, i) += diagonal(i);
+  for (int i = 0; i < num_free_; ++i) values[Index(i, i)] += diagonal(i);
   solver_.factorize(matrix_);
   return solver_.info() == Eigen::Success;
 }

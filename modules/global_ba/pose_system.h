@@ -36,13 +36,21 @@ class PoseSystem {
   int Block(int a, int b) const {
     return static_cast<int>(std::lower_bound(pairs_.begin(), pairs_.end(), std::make_pair(a, b)) - pairs_.begin());
   }
-  void Zero() {
-    for (Matrix6d& b : blocks_) b.setZero();
-    border_.setZero();
-    corner_.setZero();
+  int num_blocks() const { return static_cast<int>(pairs_.size()); }
+  // The system's values are stored once, in the layout of the factorised matrix (the sparse
+  // matrix's values, or the dense matrix column by column); a caller keeps sums of blocks in
+  // the same layout (a vector of num_values()) and adds blocks to either.
+  size_t num_values() const { return value_size_; }
+  // values[...] += B, B the block `id` (its lower-triangle entries on the diagonal).
+  void AddBlock(int id, const Matrix6d& B, double* values) const {
+    const std::array<int, 36>& index = value_index_[id];
+    for (int e = 0; e < 36; ++e)
+      if (index[e] >= 0) values[index[e]] += B(e / 6, e % 6);
   }
-  Matrix6d& block(int id) { return blocks_[id]; }
-  int num_blocks() const { return static_cast<int>(blocks_.size()); }
+  // The system's values set to `values` (num_values()), the intrinsic border and corner to 0.
+  void Load(const std::vector<double>& values);
+  // The system's own values (num_values()).
+  double* values() { return dense() ? dense_.data() : matrix_.valuePtr(); }
   // Intrinsic variable row, pose variable column (both as returned by var / intrinsic_var).
   double& border(int intrinsic_var, int pose_var) { return border_(intrinsic_var - num_pose_vars_, pose_var); }
   // Lower triangle used (row >= col).
@@ -72,8 +80,8 @@ class PoseSystem {
   std::vector<int> intrinsic_var_;
   int num_free_ = 0, num_pose_vars_ = 0, num_intrinsic_vars_ = 0;
   std::vector<std::pair<int, int>> pairs_;
-  std::vector<std::array<int, 36>> value_index_;
-  std::vector<Matrix6d> blocks_;
+  std::vector<std::array<int, 36>> value_index_;  // per block, its entries' places in the values
+  size_t value_size_ = 0;
   Eigen::MatrixXd border_, corner_;
   Eigen::SparseMatrix<double> matrix_;
   Eigen::MatrixXd dense_;  // lower triangle used

@@ -26,6 +26,7 @@ void Report::Write(const std::string& path) const { WriteStringAtomically(path, 
 
 nlohmann::json& StageTimer::Stop() {
   stopped_ = true;
+  ReleaseFreeMemory();  // what the stage freed, before its resident size is recorded
   return report_->AddStage(name_, timer_.Seconds(), cpu_timer_.Seconds(), memory_.PeakMb());
 }
 

@@ -1,5 +1,9 @@
 #include "pgba/util/timer.h"
 
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
+
 #include <algorithm>
 #include <fstream>
 #include <mutex>
@@ -35,6 +39,12 @@ PeakRssScope* g_innermost_scope = nullptr;
 }  // namespace
 
 double PeakRssMb() { return StatusMb("VmHWM:"); }
+
+void ReleaseFreeMemory() {
+#ifdef __GLIBC__
+  malloc_trim(0);
+#endif
+}
 
 double CurrentRssMb() { return StatusMb("VmRSS:"); }
 

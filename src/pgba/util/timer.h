@@ -32,6 +32,11 @@ double CurrentRssMb();
 // then stays the process-wide peak.
 bool ResetPeakRss();
 
+// Returns the heap's free memory to the system (glibc's malloc_trim; nothing elsewhere), so
+// that the resident size is what is in use: memory freed by one stage otherwise stays
+// resident in the allocator's arenas (one per thread) and adds to the next stage's peak.
+void ReleaseFreeMemory();
+
 // The process' peak resident set size since its start, in MiB, across resets. Not the
 // getrusage maximum, which the reset lowers too.
 double ProcessPeakRssMb();
