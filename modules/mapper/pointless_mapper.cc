@@ -23,6 +23,7 @@ std::string PointlessMapperOptions::Check() const {
   if (const std::string p = gcp.Check(); !p.empty()) return "gcp." + p;
   if (const std::string p = convergence.Check(); !p.empty()) return "convergence." + p;
   if (const std::string p = verification.Check(); !p.empty()) return p;
+  if (const std::string p = components.Check(); !p.empty()) return "components." + p;
   return "";
 }
 
@@ -32,6 +33,7 @@ void AddPointlessMapperSections(ConfigSchema* schema) {
   schema->Add("gcp", GcpOptions{});
   schema->Add("convergence", ConvergenceOptions{});
   schema->Add("verification", ImageVerificationOptions{});
+  schema->Add("components", ComponentJoiningOptions{});
 }
 
 void ReadPointlessMapperOptions(const Config& config, PointlessMapperOptions* options) {
@@ -40,6 +42,7 @@ void ReadPointlessMapperOptions(const Config& config, PointlessMapperOptions* op
   ReadSection(config, "gcp", &options->gcp);
   ReadSection(config, "convergence", &options->convergence);
   ReadSection(config, "verification", &options->verification);
+  ReadSection(config, "components", &options->components);
   if (const std::string problem = options->Check(); !problem.empty()) ThrowInputError(config.origin(), 0, problem);
 }
 
@@ -186,7 +189,7 @@ GlobalInitResult AdjustedStart(const GlobalInitResult& init, const std::map<uint
 }
 
 // Step 10: the images left out joined by absolute pose against the adjusted models' points, the
-// models merged where they share points (components.h). Returns the models to adjust again
+// models merged where they share points or verified pairs (components.h). Returns the models to adjust again
 // (empty when nothing changed).
 std::vector<GlobalInitResult> JoinModels(const Reconstruction& tracks, const std::vector<TwoViewGeometry>& pairs,
                                          const ComponentJoiningOptions& options, const PointlessMapperResult& r,
