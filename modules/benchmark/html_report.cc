@@ -152,7 +152,7 @@ std::string StageDescription(const std::string& name) {
       {"verification", "every registered image checked against its observations and verified pairs"},
       {"triangulation", "points triangulated with the final poses"},
       {"more_models", "the other models (components of the view graph), each adjusted on its own"},
-      {"components", "images left out joined by absolute pose; models merged by the points they share"},
+      {"components", "images left out joined by absolute pose; models merged by the points or verified pairs they share"},
       {"output", "writing sparse/ and points.ply"},
       {"evaluation", "reprojection error of the result (and errors against the ground truth)"}};
   // A stage done again keeps its first round under a suffix saying why.

@@ -3,11 +3,15 @@
 #include <algorithm>
 #include <set>
 
+#include "mapper/pair_alignment.h"
+#include "pgba/io/option_ranges.h"
 #include "pgba/scene/triangulate_model.h"
 #include "pgba/util/logging.h"
 
 namespace pgba {
 namespace {
+
+constexpr const char* kJoiningOff = "in no triplet, and joining by absolute pose is off (components.join_images)";
 
 std::vector<std::string> NamesOf(const Reconstruction& tracks, const std::map<uint32_t, Pose>& poses) {
   std::vector<std::string> names;
@@ -50,6 +54,14 @@ void SetDropped(const Reconstruction& tracks, GlobalInitResult* model) {
 
 }  // namespace
 
+std::string ComponentJoiningOptions::Check() const {
+  if (const std::string p = CheckRanges(*this, "components"); !p.empty()) return p;
+  if (!(registration.absolute_pose.min_inliers <= registration.min_correspondences))
+    return "min_pose_inliers = " + std::to_string(registration.absolute_pose.min_inliers) +
+           " exceeds min_correspondences = " + std::to_string(registration.min_correspondences);
+  return "";
+}
+
 nlohmann::json ComponentJoiningResult::ToJson(const Reconstruction& tracks) const {
   nlohmann::json j;
   j["rounds"] = rounds;
@@ -88,9 +100,10 @@ ComponentJoiningResult JoinComponents(const Reconstruction& tracks, const std::v
     const bool any_candidate = std::any_of(tracks.images.begin(), tracks.images.end(), [&](const auto& entry) {
       return with_pair.count(entry.first) && !in_a_model(entry.first);
     });
-    if (!any_candidate && models->size() == 1) {
+    if ((!any_candidate || !options.join_images) && (models->size() == 1 || !options.merge_models)) {
       for (const auto& [id, image] : tracks.images)
-        if (!in_a_model(id)) result.not_joined[id] = "no verified pair";
+        if (!in_a_model(id))
+          result.not_joined[id] = with_pair.count(id) ? kJoiningOff : "no verified pair";
       break;
     }
     std::vector<Reconstruction> structures;
@@ -103,6 +116,10 @@ ComponentJoiningResult JoinComponents(const Reconstruction& tracks, const std::v
       if (in_a_model(id)) continue;
       if (!with_pair.count(id)) {
         result.not_joined[id] = "no verified pair";
+        continue;
+      }
+      if (!options.join_images) {
+        result.not_joined[id] = kJoiningOff;
         continue;
       }
       std::string reason;
@@ -134,26 +151,37 @@ ComponentJoiningResult JoinComponents(const Reconstruction& tracks, const std::v
     }
     // Models that share points are merged, the smaller into the larger.
     bool merged = false;
-    if (models->size() > 1) {
+    if (options.merge_models && models->size() > 1) {
       if (changed) {
         structures.clear();
         for (const GlobalInitResult& m : *models) structures.push_back(TriangulateModel(tracks, m.poses));
       }
       for (size_t a = 0; a < models->size() && !merged; ++a)
         for (size_t b = a + 1; b < models->size() && !merged; ++b) {
-          const ModelAlignment alignment = AlignModels(structures[a], structures[b], options.alignment);
+          ModelAlignment alignment = AlignModels(structures[a], structures[b], options.alignment);
+          if (!alignment.success && alignment.shared_points < options.alignment.min_shared_points) {
+            // Too few shared points to judge a similarity: the verified pairs between them.
+            ModelAlignment by_pairs = AlignModelsByPairs(tracks, pairs, (*models)[a].poses, (*models)[b].poses,
+                                                         options.pairs, options.registration.verification);
+            if (by_pairs.success || by_pairs.pairs > 0) {
+              by_pairs.shared_points = alignment.shared_points;
+              by_pairs.shared_images = alignment.shared_images;
+              alignment = std::move(by_pairs);
+            }
+          }
           if (!alignment.success) {
-            if (!alignment.shared_images.empty())
-              PGBA_LOG_INFO << "models " << a << " and " << b << " share " << alignment.shared_images.size()
-                            << " images but are not merged: " << alignment.reason;
+            if (!alignment.shared_images.empty() || alignment.pairs > 0)
+              PGBA_LOG_INFO << "models " << a << " and " << b << " are not merged: " << alignment.reason;
             continue;
           }
           ModelMergeRecord record{NamesOf(tracks, (*models)[a].poses), NamesOf(tracks, (*models)[b].poses),
                                   alignment};
           PGBA_LOG_INFO << "model " << b << " (" << record.from.size() << " images) merged into model " << a << " ("
-                        << record.into.size() << " images): " << alignment.inliers << " of "
-                        << alignment.shared_points << " shared points, " << alignment.shared_images.size()
-                        << " shared images";
+                        << record.into.size() << " images) " << alignment.Summary()
+                        << (alignment.by == MergeEvidence::kVerifiedPairs
+                                ? " of " + std::to_string(alignment.pairs) + " between them"
+                                : " of " + std::to_string(alignment.shared_points) + ", " +
+                                      std::to_string(alignment.shared_images.size()) + " shared images");
           MergeInto((*models)[b], alignment.b_to_a, &(*models)[a]);
           models->erase(models->begin() + static_cast<long>(b));
           result.merges.push_back(std::move(record));

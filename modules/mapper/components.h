@@ -4,7 +4,9 @@
 //     tracks triangulated with the model's poses; image_registration.h) and joins the models
 //     whose registration CheckRegistration accepts;
 //   - two models that then share enough points are merged by the similarity those points
-//     give (model_merging.h), the smaller mapped into the larger's frame;
+//     give (model_merging.h), the smaller mapped into the larger's frame; two that share too
+//     few points to judge one, by the similarity the verified pairs between them give when
+//     those pairs agree (pair_alignment.h);
 // in rounds until no image joins and no models merge: a joined image triangulates new tracks,
 // which may place the next one. An image left in two models that did not merge stays in the
 // larger. PointlessMapper then adjusts every model that changed again (local Hessians,
@@ -21,16 +23,44 @@
 #include "averaging/global_init.h"
 #include "mapper/image_registration.h"
 #include "mapper/model_merging.h"
+#include "mapper/pair_alignment.h"
 #include "pgba/scene/reconstruction.h"
 #include "pgba/scene/view_graph.h"
+#include "pgba/util/json_fields.h"
 
 namespace pgba {
 
 struct ComponentJoiningOptions {
+  // Images in no model tried by absolute pose against each model's points.
+  bool join_images = true;
+  // Models merged where they share points or verified pairs.
+  bool merge_models = true;
   ImageRegistrationOptions registration;
-  ModelAlignmentOptions alignment;
+  ModelAlignmentOptions alignment;  // merging by shared points
+  PairAlignmentOptions pairs;       // merging by verified pairs, when too few points are shared
   int max_rounds = 10;
+  // Empty when valid, else one line naming the first field out of its valid range (the
+  // ranges of io/option_ranges.cc).
+  std::string Check() const;
 };
+// Config section "components": the keys a user sets (the others keep their defaults).
+template <class Visit>
+void JsonFields(ComponentJoiningOptions& o, Visit&& visit) {
+  visit("join_images", o.join_images);
+  visit("min_correspondences", o.registration.min_correspondences);
+  visit("min_pose_inliers", o.registration.absolute_pose.min_inliers);
+  visit("pose_threshold_px", o.registration.absolute_pose.threshold_px);
+  visit("min_inlier_ratio", o.registration.min_inlier_ratio);
+  visit("max_pair_rotation_deg", o.registration.max_pair_rotation_deg);
+  visit("merge_models", o.merge_models);
+  visit("min_shared_points", o.alignment.min_shared_points);
+  visit("min_merge_pairs", o.pairs.min_pairs);
+  visit("min_agreeing_pairs_ratio", o.pairs.min_agreeing_ratio);
+  visit("max_merge_rotation_deg", o.pairs.max_rotation_deg);
+  visit("max_merge_direction_deg", o.pairs.max_direction_deg);
+  visit("max_rounds", o.max_rounds);
+}
+PGBA_JSON_FROM_FIELDS(ComponentJoiningOptions)
 
 struct ModelMergeRecord {
   std::vector<std::string> into;  // the larger model's images before the merge, by name

@@ -22,10 +22,25 @@ double MaxReprojectionError(const Reconstruction& model, const Point3D& point, c
 
 }  // namespace
 
+std::string ModelAlignment::Summary() const {
+  if (by == MergeEvidence::kVerifiedPairs)
+    return "by " + std::to_string(agreeing_pairs) + (agreeing_pairs == 1 ? " verified pair" : " verified pairs");
+  return "by " + std::to_string(inliers) + (inliers == 1 ? " shared point" : " shared points");
+}
+
 nlohmann::json ModelAlignment::ToJson() const {
   nlohmann::json j = {{"success", success}, {"shared_points", shared_points}, {"inliers", inliers},
                       {"shared_images", shared_images}};
-  if (success) j["scale"] = b_to_a.s;
+  j["by"] = by == MergeEvidence::kVerifiedPairs ? "verified_pairs" : "shared_points";
+  if (by == MergeEvidence::kVerifiedPairs) {
+    j["pairs"] = pairs;
+    j["agreeing_pairs"] = agreeing_pairs;
+    j["conditioning"] = conditioning;
+  }
+  if (success) {
+    j["scale"] = b_to_a.s;
+    j["summary"] = Summary();
+  }
   if (!reason.empty()) j["reason"] = reason;
   return j;
 }

@@ -28,14 +28,27 @@ struct ModelAlignmentOptions {
   uint64_t seed = 0;
 };
 
+// What a merge rests on: the points both models triangulated (AlignModels), or the verified
+// image pairs between them (AlignModelsByPairs, pair_alignment.h).
+enum class MergeEvidence { kSharedPoints, kVerifiedPairs };
+
 struct ModelAlignment {
   bool success = false;
+  MergeEvidence by = MergeEvidence::kSharedPoints;
   Sim3 b_to_a;  // X_a = b_to_a(X_b)
   int shared_points = 0;
   int inliers = 0;
+  // kVerifiedPairs: the verified pairs with one image in each model, and how many of them
+  // agree with the similarity.
+  int pairs = 0;
+  int agreeing_pairs = 0;
+  // The baselines' smallest relative singular value (pair_alignment.h; 0: not computed).
+  double conditioning = 0.0;
   std::vector<std::string> shared_images;  // registered in both models, by name
   std::string reason;                      // why not, when !success
 
+  // "by 25 shared points" / "by 3 verified pairs" (the evidence that agrees).
+  std::string Summary() const;
   nlohmann::json ToJson() const;
 };
 

@@ -5,12 +5,13 @@
 #include <cstdio>
 #include <filesystem>
 #include <optional>
-#include <set>
 #include <stdexcept>
 #include <utility>
 
 #include "mapper/dropped_images.h"
+#include "mapper/join_models.h"
 #include "mapper/mapper_workspace.h"
+#include "mapper/repeated_stages.h"
 #include "local_hessian/local_hessian_io.h"
 #include "pgba/io/workspace.h"
 #include "pgba/scene/triangulate_model.h"
@@ -27,6 +28,7 @@ std::string PointlessMapperOptions::Check() const {
   if (const std::string p = gcp.Check(); !p.empty()) return "gcp." + p;
   if (const std::string p = convergence.Check(); !p.empty()) return "convergence." + p;
   if (const std::string p = verification.Check(); !p.empty()) return p;
+  if (const std::string p = components.Check(); !p.empty()) return "components." + p;
   return "";
 }
 
@@ -36,6 +38,7 @@ void AddPointlessMapperSections(ConfigSchema* schema) {
   schema->Add("gcp", GcpOptions{});
   schema->Add("convergence", ConvergenceOptions{});
   schema->Add("verification", ImageVerificationOptions{});
+  schema->Add("components", ComponentJoiningOptions{});
 }
 
 void ReadPointlessMapperOptions(const Config& config, PointlessMapperOptions* options) {
@@ -44,6 +47,7 @@ void ReadPointlessMapperOptions(const Config& config, PointlessMapperOptions* op
   ReadSection(config, "gcp", &options->gcp);
   ReadSection(config, "convergence", &options->convergence);
   ReadSection(config, "verification", &options->verification);
+  ReadSection(config, "components", &options->components);
   if (const std::string problem = options->Check(); !problem.empty()) ThrowInputError(config.origin(), 0, problem);
 }
 
@@ -164,72 +168,6 @@ void SplitModels(const Reconstruction& tracks, std::vector<GlobalInitResult> mod
   *initial = std::move(models.front());
   more->clear();
   for (size_t m = 1; m < models.size(); ++m) more->push_back({std::move(models[m]), {}, {}, {}, {}});
-}
-
-// The image sets of the models, in order (to tell whether joining changed any).
-std::vector<std::set<uint32_t>> ImageSets(const std::vector<GlobalInitResult>& models) {
-  std::vector<std::set<uint32_t>> sets;
-  for (const GlobalInitResult& m : models) {
-    sets.emplace_back();
-    for (const auto& [id, pose] : m.poses) sets.back().insert(id);
-  }
-  return sets;
-}
-
-// A model's adjusted poses as the start of its next adjustment: its initialisation with the
-// final poses (images the BA left out removed with their triplets).
-GlobalInitResult AdjustedStart(const GlobalInitResult& init, const std::map<uint32_t, Pose>& poses) {
-  GlobalInitResult start = init;
-  start.poses = poses;
-  std::vector<LocalMotion> triplets;
-  for (const LocalMotion& t : init.triplets)
-    if (std::all_of(t.image_ids.begin(), t.image_ids.end(), [&](uint32_t id) { return poses.count(id); }))
-      triplets.push_back(t);
-  start.triplets = std::move(triplets);
-  return start;
-}
-
-// Step 10: the images left out joined by absolute pose against the adjusted models' points, the
-// models merged where they share points (components.h). Returns the models to adjust again
-// (empty when nothing changed).
-std::vector<GlobalInitResult> JoinModels(const Reconstruction& tracks, const std::vector<TwoViewGeometry>& pairs,
-                                         const ComponentJoiningOptions& options, const PointlessMapperResult& r,
-                                         Report* report, ComponentJoiningResult* joining) {
-  StageTimer timer(report, "components");
-  std::vector<GlobalInitResult> models = {AdjustedStart(r.initial.init, r.refined.poses)};
-  for (const ComponentModel& m : r.more_models) models.push_back(AdjustedStart(m.init, m.refined.poses));
-  const std::vector<std::set<uint32_t>> before = ImageSets(models);
-  *joining = JoinComponents(tracks, pairs, options, &models);
-  nlohmann::json& stage = timer.Stop();
-  stage.update(joining->ToJson(tracks));
-  stage["models"] = nlohmann::json::array();
-  for (const GlobalInitResult& m : models) stage["models"].push_back(m.poses.size());
-  for (const auto& [id, reason] : joining->not_joined)
-    PGBA_LOG_WARN << "image " << tracks.images.at(id).name << " in no model: " << reason;
-  PGBA_LOG_INFO << "models: " << models.size() << ", " << joining->joined.size()
-                << " images joined by absolute pose, " << joining->merges.size() << " merges";
-  if (ImageSets(models) == before) return {};
-  return models;
-}
-
-// The stages of `names` kept under NAME + `suffix` (a stage done again).
-void RenameStages(Report* report, std::initializer_list<const char*> names, const std::string& suffix) {
-  nlohmann::json& stages = (*report)["stages"];
-  for (const char* name : names)
-    if (stages.contains(name)) {
-      stages[std::string(name) + suffix] = stages[name];
-      stages.erase(name);
-    }
-}
-
-// The stages of an adjustment that is done again, kept under "NAME_before_joining".
-void KeepFirstAdjustmentStages(Report* report) {
-  RenameStages(report,
-               {"local_hessians", "local_hessians_output", "global_ba", "gcp_check", "convergence", "verification",
-                "triangulation", "more_models", "local_hessians_before_readjustment",
-                "local_hessians_output_before_readjustment", "global_ba_before_readjustment",
-                "verification_before_readjustment"},
-               "_before_joining");
 }
 
 // Step 5: the relative motions and their local Hessians.

@@ -12,7 +12,7 @@
 //      a failing one registered again from the structure or dropped (image_verification.h)
 //   9. points triangulated with the final poses
 //  10. the images left out (no triplet, a weak pair, a component that failed) joined by
-//      absolute pose against each model's points, the models merged where they share points
+//      absolute pose against each model's points, the models merged where they share points or verified pairs
 //      (components.h); the models that changed adjusted again (steps 5, 7-9) from their
 //      adjusted poses, with the joined images
 // Steps 5-9 run for every model; the largest is the result's model (GCPs and the convergence
@@ -48,7 +48,8 @@ struct PointlessMapperOptions {
   bool record_convergence = false;  // not a config key (`pgba run` sets it)
   ConvergenceOptions convergence;   // section "convergence"
   ImageVerificationOptions verification;  // step 8: section "verification"
-  // Step 10's joining of the images left out and merging of the models. Not a config key.
+  // Step 10's joining of the images left out and merging of the models: section "components"
+  // (its verification is `verification`'s).
   ComponentJoiningOptions components;
   // Stop after step 4, the initial solution (`pgba init`). Not a config key.
   bool skip_refinement = false;

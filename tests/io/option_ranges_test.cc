@@ -29,7 +29,8 @@ nlohmann::json DefaultSections() {
           {"local_hessian", r.refinement.local_hessian},
           {"global_ba", r.refinement.global_ba},
           {"point_based", r.refinement.point_based},
-          {"gcp", r.gcp}};
+          {"gcp", r.gcp},
+          {"components", r.components}};
 }
 
 void ForEachNumber(const nlohmann::json& j, const std::string& path,
@@ -87,6 +88,13 @@ TEST_F(OptionRangesConfig, ReportedCasesNameTheKeyAndTheRange) {
             path_.string() + ": local_motions.neighbour_strides[] = 0 is out of range (>= 1)");
   EXPECT_EQ(ErrorOf(R"({"point_based": {"bundle": {"max_iterations": 0}}})"),
             path_.string() + ": point_based.bundle.max_iterations = 0 is out of range (>= 1)");
+  EXPECT_EQ(ErrorOf(R"({"components": {"min_merge_pairs": 1}})"),
+            path_.string() + ": components.min_merge_pairs = 1 is out of range (>= 2)");
+  EXPECT_EQ(ErrorOf(R"({"components": {"max_merge_rotation_deg": 0}})"),
+            path_.string() + ": components.max_merge_rotation_deg = 0 is out of range (0, 180]");
+  // A rule between two keys.
+  EXPECT_EQ(ErrorOf(R"({"components": {"min_pose_inliers": 30}})"),
+            path_.string() + ": components.min_pose_inliers = 30 exceeds min_correspondences = 20");
 }
 
 TEST_F(OptionRangesConfig, MethodNamesAreOneOfTheirChoices) {

@@ -14,56 +14,17 @@
 #include "pgba/geometry/rotation.h"
 #include "pgba/scene/triangulate_model.h"
 #include "synthetic/synthetic_scene.h"
+#include "tests/mapper/orbit_models.h"
 
 namespace pgba {
 namespace {
 
-SyntheticScene Orbit() {
-  SyntheticOptions so;
-  so.scenario = SyntheticScenario::kOrbit;
-  so.seed = 5;
-  so.num_images = 40;
-  so.noise_px = 0.5;
-  return GenerateSyntheticScene(so);
-}
+using test::CutTracks;
+using test::ModelOf;
+using test::SomeSimilarity;
+using test::TruePairs;
 
-// The true two-view rotation of every pair of images sharing at least 30 tracks.
-std::vector<TwoViewGeometry> TruePairs(const Reconstruction& gt) {
-  std::map<std::pair<uint32_t, uint32_t>, int> shared;
-  for (const auto& [id, point] : gt.points3D)
-    for (size_t a = 0; a < point.track.size(); ++a)
-      for (size_t b = a + 1; b < point.track.size(); ++b)
-        ++shared[std::minmax(point.track[a].image_id, point.track[b].image_id)];
-  std::vector<TwoViewGeometry> pairs;
-  for (const auto& [ids, n] : shared) {
-    if (n < 30) continue;
-    TwoViewGeometry p;
-    p.image_id1 = ids.first;
-    p.image_id2 = ids.second;
-    const Pose& p1 = gt.images.at(ids.first).pose;
-    const Pose& p2 = gt.images.at(ids.second).pose;
-    p.R_21 = p2.R() * p1.R().transpose();
-    p.t_21 = (p2.t() - p.R_21 * p1.t()).normalized();
-    p.num_tracks = n;
-    pairs.push_back(p);
-  }
-  return pairs;
-}
-
-Sim3 SomeSimilarity() {
-  Sim3 s;
-  s.s = 2.5;
-  s.R = ExpSO3(Eigen::Vector3d(0.3, -0.2, 0.5));
-  s.t = Eigen::Vector3d(4.0, -1.0, 2.0);
-  return s;
-}
-
-GlobalInitResult ModelOf(const Reconstruction& gt, const std::vector<uint32_t>& ids, const Sim3& frame) {
-  GlobalInitResult m;
-  m.success = true;
-  for (uint32_t id : ids) m.poses[id] = frame.Apply(gt.images.at(id).pose);
-  return m;
-}
+SyntheticScene Orbit() { return test::Orbit(); }
 
 double MaxRotationErrorDeg(const Reconstruction& tracks, const GlobalInitResult& model, const Reconstruction& gt) {
   const GroundTruthErrors e = CompareToGroundTruth(TriangulateModel(tracks, model.poses), gt);
@@ -95,6 +56,23 @@ TEST(JoinComponents, LeftOutImageJoinsAndModelsSharingPointsMerge) {
   EXPECT_LT(error, 0.1);
 }
 
+// With joining off (config components.join_images) the image left out stays out, named.
+TEST(JoinComponents, JoiningOffLeavesTheImageOutWithTheReason) {
+  const SyntheticScene scene = Orbit();
+  std::vector<uint32_t> ids;
+  for (const auto& [id, image] : scene.gt.images) ids.push_back(id);
+  const uint32_t left_out = ids[5];
+  ids.erase(ids.begin() + 5);
+  std::vector<GlobalInitResult> models = {ModelOf(scene.gt, ids, Sim3())};
+  ComponentJoiningOptions options;
+  options.join_images = false;
+  const ComponentJoiningResult r = JoinComponents(scene.input, TruePairs(scene.gt), options, &models);
+  EXPECT_EQ(models[0].poses.size(), ids.size());
+  EXPECT_TRUE(r.joined.empty());
+  ASSERT_TRUE(r.not_joined.count(left_out));
+  EXPECT_NE(r.not_joined.at(left_out).find("components.join_images"), std::string::npos);
+}
+
 TEST(JoinComponents, ImagesWithoutAgreeingPairsAreNamedNotJoined) {
   const SyntheticScene scene = Orbit();
   std::vector<TwoViewGeometry> pairs = TruePairs(scene.gt);
@@ -119,22 +97,6 @@ TEST(JoinComponents, ImagesWithoutAgreeingPairsAreNamedNotJoined) {
       << r.not_joined.at(wrong);
   ASSERT_TRUE(r.not_joined.count(lonely));
   EXPECT_EQ(r.not_joined.at(lonely), "no verified pair");
-}
-
-// The tracks of `scene` cut where they cross between the images below `split` and the rest:
-// each track's part on either side becomes a track of its own (parts of one view dropped).
-Reconstruction CutTracks(const Reconstruction& tracks, uint32_t split) {
-  Reconstruction cut = tracks;
-  for (auto& [id, image] : cut.images)
-    for (Point2D& p : image.points2D) p.point3D_id = kNoPoint3D;
-  cut.points3D.clear();
-  for (const auto& [id, point] : tracks.points3D) {
-    std::vector<TrackElement> low, high;
-    for (const TrackElement& e : point.track) (e.image_id < split ? low : high).push_back(e);
-    for (const std::vector<TrackElement>* part : {&low, &high})
-      if (part->size() >= 2) cut.AddPoint3D(point.xyz, *part);
-  }
-  return cut;
 }
 
 // PointlessMapper::Solve on an orbit whose tracks are cut in two arcs: two models, each

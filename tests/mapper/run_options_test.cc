@@ -116,6 +116,24 @@ TEST(RunOptions, OneRelativePoseKeyKeepsTheOthers) {
   EXPECT_FALSE(p.refine_until_converged);
 }
 
+// Section "components": the joining and merging keys reach the mapper's options, the others
+// keep their defaults.
+TEST(RunOptions, ComponentsSectionSetsJoiningAndMerging) {
+  const fs::path path = fs::temp_directory_path() / "pgba_run_options_components.json";
+  std::ofstream(path) << R"({"components": {"merge_models": false, "min_pose_inliers": 12, "min_correspondences": 15,
+                                             "max_merge_direction_deg": 3}})";
+  const RunOptions o = LoadRunOptions(path.string());
+  fs::remove(path);
+  const ComponentJoiningOptions& c = o.reconstruction.components;
+  EXPECT_FALSE(c.merge_models);
+  EXPECT_TRUE(c.join_images);
+  EXPECT_EQ(c.registration.absolute_pose.min_inliers, 12);
+  EXPECT_EQ(c.registration.min_correspondences, 15);
+  EXPECT_EQ(c.pairs.max_direction_deg, 3.0);
+  EXPECT_EQ(c.pairs.min_pairs, 2);
+  EXPECT_EQ(c.registration.absolute_pose.threshold_px, 4.0);
+}
+
 // Layered presets: a value set before the file is read and not named by it survives, at every
 // depth of the nested blocks.
 TEST(RunOptions, NestedBlockKeepsPresetValues) {

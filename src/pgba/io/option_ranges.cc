@@ -113,6 +113,18 @@ Table BuildTable() {
   t["verification.min_checked_observations"] = AtLeast(3);
   t["verification.min_inlier_ratio"] = kFraction;
   t["verification.max_pair_rotation_deg"] = kPositive;
+  // components (mapper/components.h)
+  t["components.min_correspondences"] = AtLeast(4);  // P3P + one to choose
+  t["components.min_pose_inliers"] = AtLeast(4);
+  t["components.pose_threshold_px"] = kPositive;
+  t["components.min_inlier_ratio"] = kFraction;
+  t["components.max_pair_rotation_deg"] = kPositive;
+  t["components.min_shared_points"] = AtLeast(3);  // a 3-point similarity
+  t["components.min_merge_pairs"] = AtLeast(2);    // one pair leaves the scale free
+  t["components.min_agreeing_pairs_ratio"] = kFraction;
+  t["components.max_merge_rotation_deg"] = kAngleDeg;
+  t["components.max_merge_direction_deg"] = kAngleDeg;
+  t["components.max_rounds"] = kAtLeastOne;
   // calibration (calibration/view_graph_calibration.h, fundamental_matrix.h)
   t["calibration.fundamental.threshold_px"] = kPositive;
   t["calibration.fundamental.confidence"] = kProbability;
