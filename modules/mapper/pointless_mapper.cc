@@ -201,9 +201,12 @@ std::vector<GlobalInitResult> JoinModels(const Reconstruction& tracks, const std
   stage["models"] = nlohmann::json::array();
   for (const GlobalInitResult& m : models) stage["models"].push_back(m.poses.size());
   for (const auto& [id, reason] : joining->not_joined)
-    PGBA_LOG_WARN << "image " << tracks.images.at(id).name << " in no model: " << reason;
-  PGBA_LOG_INFO << "models: " << models.size() << ", " << joining->joined.size()
-                << " images joined by absolute pose, " << joining->merges.size() << " merges";
+    PGBA_LOG_DEBUG << "image " << tracks.images.at(id).name << " in no model: " << reason;  // listed at the end
+  const bool changed = models.size() > 1 || !joining->joined.empty() || !joining->merges.empty();
+  internal::LogLine(changed ? LogLevel::kInfo : LogLevel::kDebug)
+      << "models: " << models.size() << " after joining (" << joining->joined.size()
+      << " images added by absolute pose against a model's points, " << joining->merges.size()
+      << " merges of models sharing points)";
   if (ImageSets(models) == before) return {};
   return models;
 }
@@ -273,6 +276,25 @@ RefinementResult AdjustPointless(const Reconstruction& tracks, const GlobalInitR
   stage["adjust_seconds"] = refined.adjust_seconds;
   stage.update(refined.details);
   stage.erase("local_hessians");
+  // One line: the images and local adjustments that went in, whether it converged, how long
+  // (the local adjustments' time is their own stage's).
+  const size_t motions = hessians.motions.size(), usable = hessians.result.num_ok();
+  std::string stop = stage.value("stop_reason", "");
+  const bool wide = stop.rfind("wide_threshold_", 0) == 0;
+  if (wide) stop.erase(0, std::string("wide_threshold_").size());
+  const std::string why = stop == "max_relinearizations" ? "global_ba.max_relinearizations passes reached"
+                          : stop == "refused_step"       ? "a step raised the reprojection error"
+                                                         : stop;
+  PGBA_LOG_INFO << "global BA (pointless): " << refined.poses.size() << " images, on "
+                << (usable < motions ? std::to_string(usable) + " of " : "") << motions << " local bundle "
+                << (motions == 1 ? "adjustment" : "adjustments") << ", "
+                << (stage.value("converged", false) ? "converged in "
+                    : stop == "no_relinearization"
+                        ? "one pass (global_ba.max_relinearizations 0) in "
+                        : "not converged (" + why + (wide ? " at the start's wider outlier threshold" : "") +
+                              ") after ")
+                << refined.iterations << " iterations, " << FormatNumber("%.1f", stage["seconds"].get<double>())
+                << " s (local adjustments " << FormatNumber("%.1f", hessians.seconds) << " s)";
   if (!refined.cameras.empty()) {
     (*report)["intrinsics"] = refined.intrinsics;
     // One line per camera, each parameter by name: pixels (f, cx, cy) to 0.01 px, the
@@ -363,8 +385,11 @@ void Readjust(const Reconstruction& tracks, const std::vector<TwoViewGeometry>& 
     *refined = std::move(adjusted);
     *verification = std::move(second);
   } catch (const InputError& e) {
-    PGBA_LOG_WARN << "the adjustment again without the images the verification dropped failed, the first one is kept: "
-                  << e.what();
+    // With no image left there is nothing to keep: the command's closing list names them all.
+    internal::LogLine(refined->poses.empty() ? LogLevel::kDebug : LogLevel::kWarning)
+        << (refined->poses.empty() ? "" : "warning: ")
+        << "the adjustment again without the images the verification dropped failed, the first one is kept: "
+        << e.what();
     (*report)["stages"] = stages;
     (*report)["stages"]["verification"]["readjustment_failed"] = e.what();
   }
@@ -462,6 +487,8 @@ void AdjustModels(const Reconstruction& tracks, const std::vector<TwoViewGeometr
   std::vector<ComponentModel> adjusted;
   for (ComponentModel& m : r->more_models) {
     nlohmann::json record;
+    PGBA_LOG_INFO << "another model: " << m.init.poses.size()
+                  << " images that share no image pair with the largest, adjusted on their own";
     try {
       AdjustModel(tracks, pairs, options, &m, &record);
       adjusted.push_back(std::move(m));
