@@ -52,17 +52,20 @@ void RegisterReconstruct(CLI::App& app) {
     RemovePreviousResults(args->out);
     PointlessMapperOptions options = LoadRunOptions(args->config).reconstruction;
     options.gcp_path = args->gcp;
+    options.workspace = args->out;
     if (!args->gcp.empty()) ReadGcpFile(args->gcp);  // a malformed file fails before any work
+    Report report;
+    report["command"] = "reconstruct";
+    report["tracks"] = args->tracks;
+    StageTimer input(&report, "input");  // the tracks model, resident until the end
     const Reconstruction tracks = ReadColmapText(args->tracks);
+    input.Stop()["observations"] = tracks.NumObservations();
     const std::string source = (fs::path(args->tracks) / "images.txt").string();
     RequireEnoughImages(tracks, source);
     if (!args->workspace.empty())
       CheckWorkspaceFingerprint(args->workspace,
                                 FingerprintOf(tracks, options, fs::exists(WorkspaceLocalHessiansPath(args->workspace))));
     PrepareOutputDir(args->out);
-    Report report;
-    report["command"] = "reconstruct";
-    report["tracks"] = args->tracks;
     const std::string report_path = (fs::path(args->out) / "report.json").string();
     try {
       const PointlessMapper mapper(options);
@@ -71,8 +74,10 @@ void RegisterReconstruct(CLI::App& app) {
                             args->workspace.empty() ? PointlessMapperResult()
                                                     : ReadMapperWorkspace(tracks, args->workspace, options, &report));
       });
+      StageTimer output(&report, "output");
       WriteReconstruction(args->out, tracks, result);
       WriteWorkspaceFingerprint(args->out, FingerprintOf(tracks, options, /*with_hessians=*/true));
+      output.Stop();
       report["status"] = "ok";
       report.Write(report_path);
       if (const std::string dropped = DroppedImagesSummary(DroppedImages(tracks, result), tracks.images.size());

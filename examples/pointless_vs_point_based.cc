@@ -80,7 +80,10 @@ int main() {
       dx.segment<3>(6 * k) = x.C() - lh.local_poses[k].C();
       dx.segment<3>(6 * k + 3) = LogSO3(lh.local_poses[k].R().transpose() * x.R());
     }
-    const Eigen::VectorXd r = lh.D.asDiagonal() * (lh.V * dx);  // eq. 5's residual, 18 rows
+    Eigen::MatrixXd V;
+    Eigen::VectorXd D;
+    lh.Factor(&V, &D);  // W = diag(D) V, paper eq. 5
+    const Eigen::VectorXd r = D.asDiagonal() * (V * dx);  // eq. 5's residual, 18 rows
     misfit.push_back(r.squaredNorm() / (11.0 * so.noise_px * so.noise_px * lh.observation_weight));
   }
   std::nth_element(misfit.begin(), misfit.begin() + misfit.size() / 2, misfit.end());

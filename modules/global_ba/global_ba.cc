@@ -60,7 +60,7 @@ double FittingError(const Unknowns& u, const MotionTerm& t) {
   std::vector<const double*> poses, intrinsics;
   for (const uint32_t id : t.hessian->image_ids) poses.push_back(u.poses.at(id).x.data());
   for (const uint32_t id : t.hessian->intrinsic_camera_ids) intrinsics.push_back(u.intrinsics.at(id).x.data());
-  return f->Evaluate(poses, t.sim.x.data(), intrinsics).norm() / t.unit;
+  return std::sqrt(f->SquaredNorm(poses, t.sim.x.data(), intrinsics)) / t.unit;
 }
 
 // Robust scale of the fitting errors and the IRLS weights from them; the errors in `errors`.
@@ -154,7 +154,6 @@ GlobalBAResult internal::RunGlobalBA(const std::map<uint32_t, Pose>& initial_pos
   for (int hi : sel.hessian_indices) {
     MotionTerm t;
     t.hessian = &hessians[hi];
-    t.W = MotionWeightOf(*t.hessian, options);
     // Aver_BA averages the relative motions themselves (scalar weights, no quadratic model).
     if (options.weighting == TripletWeighting::kHessian) t.newton_step = t.hessian->newton_step;
     t.unit = ResidualUnit(*t.hessian, options);
@@ -177,6 +176,9 @@ GlobalBAResult internal::RunGlobalBA(const std::map<uint32_t, Pose>& initial_pos
       PGBA_LOG_WARN << "global BA: fewer than 3 non-collinear GCPs seen in triplets; the gauge stays fixed by a "
                        "triplet and the GCPs only act through the frame transfer and their residuals";
   }
+  // The Ceres solver needs residual vectors, so W factored; the motion-block solver only h.
+  const bool factored = !BlockSolverApplies(options, 0.0, u) || options.huber_factor > 0;
+  for (MotionTerm& t : u.terms) t.W = MotionWeightOf(*t.hessian, options, factored);
 
   GlobalBAResult result;
   GlobalBASummary& summary = result.summary;

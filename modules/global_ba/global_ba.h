@@ -296,9 +296,11 @@ GlobalBAResult PointlessGlobalBA(const std::map<uint32_t, Pose>& initial_poses, 
 // at the local poses the current solution predicts (lh_options with max_iterations = 0),
 // and PointlessGlobalBA again from the current poses. The callback sees one continuous
 // iteration count; the summary adds up iterations, rounds and time over the solves.
+// `hessians` are taken by value and re-taken in place, one model per motion: a caller that no
+// longer needs them moves them in (the largest memory of a large block), others copy.
 GlobalBAResult RelinearizedGlobalBA(const Reconstruction& tracks, const LocalHessianOptions& lh_options,
                                     const std::map<uint32_t, Pose>& initial_poses,
-                                    const std::vector<LocalMotion>& motions, const std::vector<LocalHessian>& hessians,
+                                    const std::vector<LocalMotion>& motions, std::vector<LocalHessian> hessians,
                                     const GlobalBAOptions& options, const GlobalBAIterationCallback& callback = nullptr,
                                     const GcpInput* gcps = nullptr);
 

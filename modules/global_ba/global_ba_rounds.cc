@@ -138,7 +138,7 @@ RoundSummary SolveRoundByBlocks(const GlobalBAOptions& options, int round, bool 
   }
   for (Eigen::VectorXd& k : intrinsics) problem.intrinsics.push_back(&k);
   std::vector<std::unique_ptr<MotionResidual>> residuals;
-  std::vector<Eigen::MatrixXd> scalar_h;
+  std::vector<SymmetricMatrix> scalar_h;
   scalar_h.reserve(u->terms.size());  // stable addresses
   for (MotionTerm& t : u->terms) {
     residuals.emplace_back(MakeResidual(*u, t));
@@ -148,7 +148,7 @@ RoundSummary SolveRoundByBlocks(const GlobalBAOptions& options, int round, bool 
     if (options.weighting == TripletWeighting::kHessian) {
       term.h = &t.hessian->h;
     } else {
-      scalar_h.push_back(t.W.Gram());
+      scalar_h.emplace_back(t.W.Gram());
       term.h = &scalar_h.back();
     }
     for (const uint32_t id : t.hessian->image_ids) term.poses.push_back(index.at(id));

@@ -43,7 +43,7 @@ double MotionBlockCost(const MotionBlockProblem& p) {
   std::vector<double> costs(p.terms.size());
   tbb::parallel_for(size_t(0), p.terms.size(), [&](size_t ti) {
     const MotionBlockTerm& t = p.terms[ti];
-    costs[ti] = 0.5 * t.weight * t.residual->Evaluate(PosePointers(p, t), t.sim, IntrinsicPointers(p, t)).squaredNorm();
+    costs[ti] = 0.5 * t.weight * t.residual->SquaredNorm(PosePointers(p, t), t.sim, IntrinsicPointers(p, t));
   });
   double cost = 0.0;
   for (const double c : costs) cost += c;
@@ -60,11 +60,15 @@ struct TermIndex {
 
 // Assembles the reduced system of the current linearisation with each motion's similarity
 // eliminated (its 7 x 7 block damped by diag / radius; radius = inf: undamped): the system's
-// blocks, the right-hand side -g + H_x,sim H_sim^-1 g_sim, and each term's H_sim^-1.
+// blocks (`pose_blocks`, the sum of the motions' H_kl, minus each motion's
+// H_k,sim H_sim^-1 H_sim,l), the right-hand side -g + H_x,sim H_sim^-1 g_sim, and each term's
+// H_sim^-1.
 void AssembleReduced(const MotionBlockProblem& p, const std::vector<TermSystem>& sys,
-                     const std::vector<TermIndex>& index, const Eigen::VectorXd& gradient, double radius,
-                     internal::PoseSystem* system, Eigen::VectorXd* rhs, std::vector<Matrix7d>* Hss_inv) {
+                     const std::vector<TermIndex>& index, const std::vector<Matrix6d>& pose_blocks,
+                     const Eigen::VectorXd& gradient, double radius, internal::PoseSystem* system,
+                     Eigen::VectorXd* rhs, std::vector<Matrix7d>* Hss_inv) {
   system->Zero();
+  for (size_t b = 0; b < pose_blocks.size(); ++b) system->block(static_cast<int>(b)) = pose_blocks[b];
   *rhs = -gradient;
   Hss_inv->resize(p.terms.size());
   for (size_t ti = 0; ti < p.terms.size(); ++ti) {
@@ -81,8 +85,7 @@ void AssembleReduced(const MotionBlockProblem& p, const std::vector<TermSystem>&
     for (int k = 0; k < n; ++k) {
       for (int l = 0; l < n; ++l) {
         if (t.poses[k] < t.poses[l]) continue;  // lower triangle by pose index
-        Matrix6d b = s.Hpp[k * n + l] - M.middleRows<6>(6 * k) * s.Hps.middleRows<6>(6 * l).transpose();
-        system->block(ix.block_of[k * n + l]) += b;
+        system->block(ix.block_of[k * n + l]).noalias() -= M.middleRows<6>(6 * k) * s.Hps.middleRows<6>(6 * l).transpose();
       }
       for (int c = 0; c < 6; ++c) {
         const int v = system->var(t.poses[k], c);
@@ -112,7 +115,7 @@ MotionBlockSummary SolveMotionBlocks(const MotionBlockProblem& p, const MotionBl
                                      const MotionBlockCallback& callback) {
   MotionBlockSummary summary;
   internal::PoseSystem system(p);
-  std::vector<const Eigen::MatrixXd*> h(p.terms.size());
+  std::vector<const SymmetricMatrix*> h(p.terms.size());
   std::vector<TermIndex> index(p.terms.size());
   for (size_t ti = 0; ti < p.terms.size(); ++ti) {
     const MotionBlockTerm& t = p.terms[ti];
@@ -142,25 +145,39 @@ MotionBlockSummary SolveMotionBlocks(const MotionBlockProblem& p, const MotionBl
   std::vector<TermSystem> sys(p.terms.size());
   bool relinearize = true;
   Eigen::VectorXd gradient(system.num_free()), diagonal(system.num_free());
-  // Linearises every term at the current state: the gradient and diag(J^T J) per variable.
+  // The sum over the motions of their pose-pair blocks H_kl, one per block of the pose system.
+  std::vector<Matrix6d> pose_blocks(system.num_blocks());
+  // Linearises every term at the current state: the gradient, diag(J^T J) per variable and the
+  // pose blocks. A term's H_kl (N^2 blocks, as many doubles as its h) are summed into the pose
+  // blocks and released chunk by chunk: together they would hold a second copy of every h.
   const auto linearize_all = [&]() {
     gradient.setZero();
     diagonal.setZero();
-    // Each term writes only its own system (half of a solve's time on one thread); the sums
-    // below run in term order, so the result does not depend on the schedule.
-    tbb::parallel_for(size_t(0), p.terms.size(), [&](size_t ti) { sys[ti] = Linearize(p, p.terms[ti], *h[ti]); });
-    for (size_t ti = 0; ti < p.terms.size(); ++ti) {
-      const MotionBlockTerm& t = p.terms[ti];
-      for (size_t k = 0; k < t.poses.size(); ++k)
-        for (int c = 0; c < 6; ++c) {
-          const int v = system.var(t.poses[k], c);
-          if (v < 0) continue;
-          gradient(v) += sys[ti].gp(6 * k + c);
-          diagonal(v) += sys[ti].Hpp[k * t.poses.size() + k](c, c);
+    for (Matrix6d& b : pose_blocks) b.setZero();
+    constexpr size_t kChunk = 256;
+    for (size_t begin = 0; begin < p.terms.size(); begin += kChunk) {
+      const size_t end = std::min(p.terms.size(), begin + kChunk);
+      // Each term writes only its own system (half of a solve's time on one thread); the sums
+      // below run in term order, so the result does not depend on the schedule.
+      tbb::parallel_for(begin, end, [&](size_t ti) { sys[ti] = Linearize(p, p.terms[ti], h[ti]->Dense()); });
+      for (size_t ti = begin; ti < end; ++ti) {
+        const MotionBlockTerm& t = p.terms[ti];
+        const size_t n = t.poses.size();
+        for (size_t k = 0; k < n; ++k) {
+          for (int c = 0; c < 6; ++c) {
+            const int v = system.var(t.poses[k], c);
+            if (v < 0) continue;
+            gradient(v) += sys[ti].gp(6 * k + c);
+            diagonal(v) += sys[ti].Hpp[k * n + k](c, c);
+          }
+          for (size_t l = 0; l < n; ++l)  // lower triangle by pose index
+            if (t.poses[k] >= t.poses[l]) pose_blocks[index[ti].block_of[k * n + l]] += sys[ti].Hpp[k * n + l];
         }
-      for (size_t i = 0; i < index[ti].kvar.size(); ++i) {
-        gradient(index[ti].kvar[i]) += sys[ti].gk(i);
-        diagonal(index[ti].kvar[i]) += sys[ti].Hkk(i, i);
+        std::vector<Matrix6d>().swap(sys[ti].Hpp);
+        for (size_t i = 0; i < index[ti].kvar.size(); ++i) {
+          gradient(index[ti].kvar[i]) += sys[ti].gk(i);
+          diagonal(index[ti].kvar[i]) += sys[ti].Hkk(i, i);
+        }
       }
     }
   };
@@ -172,7 +189,7 @@ MotionBlockSummary SolveMotionBlocks(const MotionBlockProblem& p, const MotionBl
       relinearize = false;
     }
     // Damped reduced system: each motion's similarity eliminated with its damped 7 x 7 block.
-    AssembleReduced(p, sys, index, gradient, radius, &system, &rhs, &Hss_inv);
+    AssembleReduced(p, sys, index, pose_blocks, gradient, radius, &system, &rhs, &Hss_inv);
     Eigen::VectorXd damping(system.num_free());
     for (int i = 0; i < system.num_free(); ++i)
       damping(i) = std::min(std::max(diagonal(i), kMinDiagonal), kMaxDiagonal) / radius;
@@ -247,7 +264,7 @@ MotionBlockSummary SolveMotionBlocks(const MotionBlockProblem& p, const MotionBl
     }
     if (options.embedded_similarity_iterations > 0)
       tbb::parallel_for(size_t(0), p.terms.size(), [&](size_t ti) {
-        OptimizeSimilarity(p, p.terms[ti], *h[ti], options.embedded_similarity_iterations);
+        OptimizeSimilarity(p, p.terms[ti], h[ti]->Dense(), options.embedded_similarity_iterations);
       });
     const double new_cost = MotionBlockCost(p);
     const double rho = predicted > 0 ? (cost - new_cost) / predicted : -1.0;
@@ -282,7 +299,8 @@ MotionBlockSummary SolveMotionBlocks(const MotionBlockProblem& p, const MotionBl
     // (J^T J)^-1 on the intrinsics at the solution: the intrinsic block of the inverse of the
     // undamped reduced system (the inverse of a Schur complement is the block of the inverse).
     linearize_all();
-    AssembleReduced(p, sys, index, gradient, std::numeric_limits<double>::infinity(), &system, &rhs, &Hss_inv);
+    AssembleReduced(p, sys, index, pose_blocks, gradient, std::numeric_limits<double>::infinity(), &system, &rhs,
+                    &Hss_inv);
     if (system.Factorize(Eigen::VectorXd::Zero(system.num_free()))) {
       summary.intrinsics_inverse_hessian.resize(K, K);
       for (int j = 0; j < K; ++j) {

@@ -27,7 +27,7 @@ namespace pgba {
 
 struct MotionBlockTerm {
   const MotionResidual* residual = nullptr;
-  const Eigen::MatrixXd* h = nullptr;  // W^T W of the residual (the local Hessian h_s)
+  const SymmetricMatrix* h = nullptr;  // W^T W of the residual (the local Hessian h_s)
   std::vector<int> poses;  // index into MotionBlockProblem::poses per view
   double* sim = nullptr;   // the motion's 7 similarity parameters
   double weight = 1.0;     // w_s

@@ -40,7 +40,8 @@ MotionResidual::MotionResidual(const std::vector<Eigen::Matrix3d>& R0, const Mot
   const int n = static_cast<int>(x0.size());
   const int rows = 6 * n + num_intrinsics();
   for (int k = 0; k < n; ++k) views_.push_back({sim.alpha0, sim.G, x0[k].R().transpose() * R0[k], x0[k].C()});
-  offset_ = newton_step.size() == rows ? W_.Times(newton_step) : Eigen::VectorXd::Zero(rows);
+  newton_step_ = newton_step.size() == rows ? newton_step : Eigen::VectorXd::Zero(rows);
+  if (W_.factored()) offset_ = W_.Times(newton_step_);
   set_num_residuals(rows);
   for (int k = 0; k < n; ++k) mutable_parameter_block_sizes()->push_back(6);
   mutable_parameter_block_sizes()->push_back(7);
@@ -63,6 +64,17 @@ Eigen::VectorXd MotionResidual::Deviation(const std::vector<const double*>& pose
 Eigen::VectorXd MotionResidual::Evaluate(const std::vector<const double*>& poses, const double* sim,
                                          const std::vector<const double*>& intrinsics) const {
   return W_.Times(Deviation(poses, sim, intrinsics)) - offset_;
+}
+
+double MotionResidual::SquaredNorm(const std::vector<const double*>& poses, const double* sim,
+                                   const std::vector<const double*>& intrinsics) const {
+  if (W_.factored()) return Evaluate(poses, sim, intrinsics).squaredNorm();
+  return W_.SquaredNorm(Deviation(poses, sim, intrinsics) - newton_step_);  // (dx - n)^T h (dx - n)
+}
+
+Eigen::VectorXd MotionResidual::DeviationGradient(const Eigen::VectorXd& dx) const {
+  if (W_.factored()) return W_.TransposeTimes(W_.Times(dx) - offset_);
+  return W_.GramTimes(dx - newton_step_);
 }
 
 void MotionResidual::Linearize(const std::vector<const double*>& poses, const double* sim,

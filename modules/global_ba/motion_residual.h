@@ -81,11 +81,16 @@ class MotionResidual : public ceres::CostFunction {
   const std::vector<int>& intrinsic_sizes() const { return intrinsic_sizes_; }
 
   // r_s at the given blocks (poses[k]: 6 doubles of view k; sim: 7; intrinsics[c]: the free
-  // values of camera c of h).
+  // values of camera c of h). Needs a factored W (motion_weight.h).
   Eigen::VectorXd Evaluate(const std::vector<const double*>& poses, const double* sim,
                            const std::vector<const double*>& intrinsics = {}) const;
+  // |r_s|^2 at the given blocks, with any form of W.
+  double SquaredNorm(const std::vector<const double*>& poses, const double* sim,
+                     const std::vector<const double*>& intrinsics = {}) const;
+  // The gradient of 1/2 |r_s|^2 with respect to the deviation dx = x_s - x0_s: W^T r_s.
+  Eigen::VectorXd DeviationGradient(const Eigen::VectorXd& dx) const;
 
-  // Ceres: blocks poses[0..N-1], sim, intrinsics[0..C-1]; residuals 6N + K.
+  // Ceres: blocks poses[0..N-1], sim, intrinsics[0..C-1]; residuals 6N + K. Needs a factored W.
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
 
   // x_s - x0_s (before the weight matrix), for tests of the chart.
@@ -99,7 +104,6 @@ class MotionResidual : public ceres::CostFunction {
                  const std::vector<const double*>& intrinsics, Eigen::VectorXd* dx,
                  std::vector<Eigen::Matrix<double, 6, 13>>* J) const;
   const MotionWeight& W() const { return W_; }
-  const Eigen::VectorXd& offset() const { return offset_; }
 
  private:
   // kappa_c - kappa0_c for every camera, concatenated (K values).
@@ -107,7 +111,8 @@ class MotionResidual : public ceres::CostFunction {
 
   std::vector<ViewDeviation> views_;
   MotionWeight W_;
-  Eigen::VectorXd offset_;  // W_s n_s
+  Eigen::VectorXd newton_step_;  // n_s (zero when none was given)
+  Eigen::VectorXd offset_;       // W_s n_s (a factored W only)
   Eigen::VectorXd intrinsics0_;
   std::vector<int> intrinsic_sizes_;
 };

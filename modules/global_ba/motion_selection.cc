@@ -17,8 +17,8 @@ int Find(std::vector<int>& parent, int i) {
 }
 
 bool Usable(const LocalHessian& h) {
-  return h.status == LocalHessianStatus::kOk && h.D.size() == 6 * h.num_views() + h.num_intrinsics() && h.V.rows() == h.D.size() &&
-         h.V.allFinite() && h.D.allFinite() && h.D.maxCoeff() > 0;
+  const int dim = 6 * h.num_views() + h.num_intrinsics();
+  return h.status == LocalHessianStatus::kOk && h.h.rows() == dim && h.h.allFinite() && h.h.MaxDiagonal() > 0;
 }
 
 }  // namespace

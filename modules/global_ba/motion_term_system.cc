@@ -29,8 +29,7 @@ ResidualLinearization LinearizeResidual(const MotionBlockProblem& p, const Motio
   ResidualLinearization r;
   Eigen::VectorXd dx;
   t.residual->Linearize(PosePointers(p, t), t.sim, IntrinsicPointers(p, t), &dx, &r.J);
-  const MotionWeight& W = t.residual->W();
-  r.u = W.TransposeTimes(W.Times(dx) - t.residual->offset());
+  r.u = t.residual->DeviationGradient(dx);
   return r;
 }
 
@@ -96,7 +95,7 @@ TermSystem Linearize(const MotionBlockProblem& p, const MotionBlockTerm& t, cons
 void OptimizeSimilarity(const MotionBlockProblem& p, const MotionBlockTerm& t, const Eigen::MatrixXd& h,
                         int iterations) {
   Eigen::Map<Vector7d> sim(t.sim);
-  double cost = t.residual->Evaluate(PosePointers(p, t), t.sim, IntrinsicPointers(p, t)).squaredNorm();
+  double cost = t.residual->SquaredNorm(PosePointers(p, t), t.sim, IntrinsicPointers(p, t));
   for (int it = 0; it < iterations; ++it) {
     const ResidualLinearization r = LinearizeResidual(p, t);
     Matrix7d Hss = Matrix7d::Zero();
@@ -104,7 +103,7 @@ void OptimizeSimilarity(const MotionBlockProblem& p, const MotionBlockTerm& t, c
     AddSimilarityBlock(r, HessianTimesSimilarityJacobian(h, r), 1.0, &Hss, &gs);
     const Vector7d saved = sim;
     sim -= Hss.ldlt().solve(gs);
-    const double trial = t.residual->Evaluate(PosePointers(p, t), t.sim, IntrinsicPointers(p, t)).squaredNorm();
+    const double trial = t.residual->SquaredNorm(PosePointers(p, t), t.sim, IntrinsicPointers(p, t));
     if (!(trial < cost)) {
       sim = saved;
       return;

@@ -26,7 +26,7 @@ std::vector<const double*> IntrinsicPointers(const MotionBlockProblem& p, const 
 struct TermSystem {
   std::vector<Matrix6d> A;   // d dx_k / d pose_k
   std::vector<Matrix67> B;   // d dx_k / d sim
-  std::vector<Matrix6d> Hpp;  // N x N blocks, row-major (k * N + l)
+  std::vector<Matrix6d> Hpp;  // N x N blocks, row-major (k * N + l); the solver sums and releases them
   Eigen::Matrix<double, Eigen::Dynamic, 7> Hps;  // 6N x 7
   Matrix7d Hss;
   Eigen::VectorXd gp;  // 6N

@@ -7,11 +7,15 @@
 
 namespace pgba {
 
-MotionWeight MotionWeightOf(const LocalHessian& hessian, const GlobalBAOptions& options) {
-  // The local Hessian's factors, not copied: they outlive every residual of the global BA.
-  if (options.weighting == TripletWeighting::kHessian)
-    return MotionWeight(std::shared_ptr<const Eigen::VectorXd>(std::shared_ptr<void>(), &hessian.D),
-                        std::shared_ptr<const Eigen::MatrixXd>(std::shared_ptr<void>(), &hessian.V));
+MotionWeight MotionWeightOf(const LocalHessian& hessian, const GlobalBAOptions& options, bool factored) {
+  if (options.weighting == TripletWeighting::kHessian) {
+    // The local Hessian itself, not copied: it outlives every residual of the global BA.
+    if (!factored) return MotionWeight::OfGram(hessian.h);
+    auto V = std::make_shared<Eigen::MatrixXd>();
+    auto D = std::make_shared<Eigen::VectorXd>();
+    hessian.Factor(V.get(), D.get());
+    return MotionWeight(std::move(D), std::move(V));
+  }
   const int n = 6 * hessian.num_views();
   Eigen::VectorXd w(n + hessian.num_intrinsics());
   const double wp = 1.0 / (options.scalar_position_sigma * hessian.depth_scale);

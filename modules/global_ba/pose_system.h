@@ -42,6 +42,7 @@ class PoseSystem {
     corner_.setZero();
   }
   Matrix6d& block(int id) { return blocks_[id]; }
+  int num_blocks() const { return static_cast<int>(blocks_.size()); }
   // Intrinsic variable row, pose variable column (both as returned by var / intrinsic_var).
   double& border(int intrinsic_var, int pose_var) { return border_(intrinsic_var - num_pose_vars_, pose_var); }
   // Lower triangle used (row >= col).

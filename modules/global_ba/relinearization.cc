@@ -32,18 +32,17 @@ using internal::FreeIntrinsicsOf;
 using internal::IntrinsicSizes;
 using internal::Models;
 using internal::NoiseVariance;
-using internal::RelinearizeAt;
 using internal::RunGlobalBA;
 using internal::SharesOf;
 using internal::TotalRobustCost;
 
-// How far `result` moved from the linearisation points (the local poses of `hessians[i]`), in
-// noise sigmas: |W_s (x_s - x_lin_s)| / (unit_s sigma_s) over the motions `relinearized`, their
-// largest value with `largest`, else their median.
-double Displacement(const GlobalBAResult& result, const std::vector<LocalHessian>& hessians,
-                    const std::vector<int>& relinearized, const GlobalBAOptions& options, bool largest) {
-  std::vector<double> d;
-  for (const int i : relinearized) {
+// How far `result` moved each motion from its linearisation point (the local poses of
+// `hessians[i]`), in noise sigmas: |W_s (x_s - x_lin_s)| / (unit_s sigma_s), NaN for a motion
+// `result` did not use or without a noise estimate.
+std::vector<double> Displacements(const GlobalBAResult& result, const std::vector<LocalHessian>& hessians,
+                                  const GlobalBAOptions& options) {
+  std::vector<double> d(hessians.size(), std::numeric_limits<double>::quiet_NaN());
+  for (size_t i = 0; i < hessians.size(); ++i) {
     const LocalHessian& h = hessians[i];
     const double v = NoiseVariance(h);
     if (!std::isfinite(v) || !(result.irls_weights[i] > 0)) continue;
@@ -62,8 +61,17 @@ double Displacement(const GlobalBAResult& result, const std::vector<LocalHessian
                            IntrinsicSizes(h));
     std::vector<const double*> k;
     for (const uint32_t id : h.intrinsic_camera_ids) k.push_back(result.intrinsics.at(id).values.data());
-    d.push_back(f.Evaluate(x, sim.x.data(), k).norm() / (ResidualUnit(h, options) * std::sqrt(v)));
+    d[i] = std::sqrt(f.SquaredNorm(x, sim.x.data(), k)) / (ResidualUnit(h, options) * std::sqrt(v));
   }
+  return d;
+}
+
+// The displacements of the motions `relinearized` (the others and NaN left out): their largest
+// value with `largest`, else their median; 0 when none.
+double Displacement(const std::vector<double>& displacements, const std::vector<int>& relinearized, bool largest) {
+  std::vector<double> d;
+  for (const int i : relinearized)
+    if (std::isfinite(displacements[i])) d.push_back(displacements[i]);
   if (d.empty()) return 0.0;
   return largest ? *std::max_element(d.begin(), d.end()) : UpperMedian(d);
 }
@@ -126,8 +134,8 @@ double RelativeDecrease(double before, double after) { return (before - after) /
 // converged (or the safety cap ends it).
 GlobalBAResult CheckedRelinearization(const Reconstruction& tracks, const LocalHessianOptions& lh_options,
                                       const std::map<uint32_t, Pose>& initial_poses,
-                                      const std::vector<LocalMotion>& motions,
-                                      const std::vector<LocalHessian>& hessians, const GlobalBAOptions& options,
+                                      const std::vector<LocalMotion>& motions, std::vector<LocalHessian> hessians,
+                                      const GlobalBAOptions& options,
                                       const GlobalBAIterationCallback& callback, const GcpInput* gcps) {
   Timer timer;
   GlobalBAOptions pointless = options;
@@ -143,8 +151,8 @@ GlobalBAResult CheckedRelinearization(const Reconstruction& tracks, const LocalH
     checked.solver.stop_at_refused_step = true;
   }
 
-  Models models(motions, hessians);
-  GlobalBAResult trial = RunGlobalBA(initial_poses, motions, hessians, checked, callback, gcps);
+  Models models(motions, std::move(hessians));
+  GlobalBAResult trial = RunGlobalBA(initial_poses, motions, models.hessians(), checked, callback, gcps);
   GlobalBASummary total = trial.summary;
   // The kept state: the initial poses (cost of the models taken there), then each kept step.
   GlobalBAResult kept = trial;
@@ -154,7 +162,7 @@ GlobalBAResult CheckedRelinearization(const Reconstruction& tracks, const LocalH
     k.stddev.setConstant(std::numeric_limits<double>::quiet_NaN());
   }
   const std::map<uint32_t, GlobalIntrinsics> first = trial.intrinsics;
-  double cost = TotalRobustCost(models.hessians(), nullptr, trial);
+  double cost = TotalRobustCost(models.hessians(), trial);
   total.passes.push_back({cost, true, std::numeric_limits<double>::quiet_NaN(), lh_options.max_reprojection_px});
   if (options.max_relinearizations == 0) {
     kept = trial;
@@ -162,16 +170,19 @@ GlobalBAResult CheckedRelinearization(const Reconstruction& tracks, const LocalH
     total.converged = false;
   }
   while (options.max_relinearizations > 0) {
+    // How far the step moved the motions from the models it was taken on, measured before
+    // those are replaced by the models re-taken there.
+    const std::vector<double> moved = Displacements(trial, models.hessians(), pointless);
     Timer pass;
-    Models::Retaken retaken = RelinearizeAt(tracks, at_solution, &shares, motions, models, trial);
+    const std::vector<int> retaken = models.RetakeAt(tracks, at_solution, &shares, motions, trial);
     total.relinearization_seconds += pass.Seconds();
-    const double trial_cost = TotalRobustCost(models.hessians(), &retaken, trial);
+    const double trial_cost = TotalRobustCost(models.hessians(), trial);
     // An unknown starting cost (local Hessians read from an older workspace file): the first
     // step is taken unchecked.
     const bool unknown = !std::isfinite(cost);
     const double decrease = unknown ? 1.0 : RelativeDecrease(cost, trial_cost);
     const bool refused = !unknown && !(trial_cost < cost);
-    const double displacement = Displacement(trial, models.hessians(), retaken.index, pointless, /*largest=*/true);
+    const double displacement = Displacement(moved, retaken, /*largest=*/true);
     total.passes.push_back({trial_cost, !refused, displacement, lh_options.max_reprojection_px});
     PGBA_LOG_DEBUG << "global BA pass " << total.passes.size() - 1 << ": robust reprojection cost " << cost
                      << " -> " << trial_cost << ", motions moved up to " << displacement << " noise sigmas"
@@ -181,7 +192,6 @@ GlobalBAResult CheckedRelinearization(const Reconstruction& tracks, const LocalH
       total.converged = -decrease <= options.relinearize_cost_tolerance;
       break;
     }
-    models.Adopt(std::move(retaken));
     cost = trial_cost;
     kept = trial;
     total.relinearizations += 1;
@@ -225,8 +235,8 @@ GlobalBAResult CheckedRelinearization(const Reconstruction& tracks, const LocalH
 // if the misfit trigger fires, passes until the median displacement is below the tolerance.
 GlobalBAResult UncheckedRelinearization(const Reconstruction& tracks, const LocalHessianOptions& lh_options,
                                         const std::map<uint32_t, Pose>& initial_poses,
-                                        const std::vector<LocalMotion>& motions,
-                                        const std::vector<LocalHessian>& hessians, const GlobalBAOptions& options,
+                                        const std::vector<LocalMotion>& motions, std::vector<LocalHessian> hessians,
+                                        const GlobalBAOptions& options,
                                         const GlobalBAIterationCallback& callback, const GcpInput* gcps) {
   Timer timer;
   GlobalBAOptions pointless = options;
@@ -246,14 +256,12 @@ GlobalBAResult UncheckedRelinearization(const Reconstruction& tracks, const Loca
     const ObservationShares shares = SharesOf(tracks, motions, at_solution);
     // The frames carry the local frame of each re-linearised model (its similarity from the
     // solution), for SimilarityInit::kFromTriplet.
-    Models models(motions, hessians);
+    Models models(motions, std::move(hessians));
     total.stop_reason = "max_relinearizations";
     total.converged = false;
     for (int k = 1; k <= options.max_relinearizations; ++k) {
       Timer pass;
-      Models::Retaken retaken = RelinearizeAt(tracks, at_solution, &shares, motions, models, result);
-      const std::vector<int> relinearized = retaken.index;
-      models.Adopt(std::move(retaken));
+      const std::vector<int> relinearized = models.RetakeAt(tracks, at_solution, &shares, motions, result);
       total.relinearization_seconds += pass.Seconds();
       result = SolveAgain(result.poses, models, pointless, callback, gcps, &total);
       const GlobalBASummary& s = result.summary;
@@ -263,7 +271,7 @@ GlobalBAResult UncheckedRelinearization(const Reconstruction& tracks, const Loca
       total.misfit_ratio = s.misfit_ratio;
       total.relinearizations = k;
       total.relinearization_displacement =
-          Displacement(result, models.hessians(), relinearized, pointless, /*largest=*/false);
+          Displacement(Displacements(result, models.hessians(), pointless), relinearized, /*largest=*/false);
       PGBA_LOG_DEBUG << "global BA re-linearisation " << k << ": " << relinearized.size()
                        << " local hessians at the solution, moved " << total.relinearization_displacement
                        << " noise sigmas from them, misfit " << total.misfit_ratio;
@@ -315,17 +323,18 @@ double StartMedianResidual(const Reconstruction& tracks, const std::map<uint32_t
 // outlier threshold, then on models with the configured one re-taken where those ended.
 GlobalBAResult GraduatedRelinearization(const Reconstruction& tracks, const LocalHessianOptions& lh_options,
                                         const std::map<uint32_t, Pose>& initial_poses,
-                                        const std::vector<LocalMotion>& motions,
-                                        const std::vector<LocalHessian>& hessians, const GlobalBAOptions& options,
+                                        const std::vector<LocalMotion>& motions, std::vector<LocalHessian> hessians,
+                                        const GlobalBAOptions& options,
                                         const GlobalBAIterationCallback& callback, const GcpInput* gcps) {
   if (options.start_outlier_factor <= 0 || options.max_relinearizations == 0)
-    return CheckedRelinearization(tracks, lh_options, initial_poses, motions, hessians, options, callback, gcps);
+    return CheckedRelinearization(tracks, lh_options, initial_poses, motions, std::move(hessians), options, callback,
+                                  gcps);
   Timer timer;
   const double median = StartMedianResidual(tracks, initial_poses, motions);
   const double wide_px = options.start_outlier_factor * median;
   if (!(wide_px > lh_options.max_reprojection_px)) {
-    GlobalBAResult r =
-        CheckedRelinearization(tracks, lh_options, initial_poses, motions, hessians, options, callback, gcps);
+    GlobalBAResult r = CheckedRelinearization(tracks, lh_options, initial_poses, motions, std::move(hessians), options,
+                                              callback, gcps);
     r.summary.start_median_px = median;
     return r;
   }
@@ -337,19 +346,22 @@ GlobalBAResult GraduatedRelinearization(const Reconstruction& tracks, const Loca
   wide.max_reprojection_px = wide_px;
   wide.solver.max_iterations = 0;
   const ObservationShares shares = SharesOf(tracks, motions, wide);
-  const LocalHessianResult first =
-      ComputeLocalHessians(tracks, motions, wide, &shares, free.empty() ? nullptr : &free);
+  LocalHessianResult first = ComputeLocalHessians(tracks, motions, wide, &shares, free.empty() ? nullptr : &free);
   const double first_seconds = timer.Seconds();
-  const GlobalBAResult r =
-      CheckedRelinearization(tracks, wide, initial_poses, motions, first.hessians, options, callback, gcps);
+  const GlobalBAResult r = CheckedRelinearization(tracks, wide, initial_poses, motions, first.hessians, options,
+                                                  callback, gcps);
   // The configured models where the wide passes ended (the others as given).
   Timer retake;
   LocalHessianOptions at_solution = lh_options;
   at_solution.solver.max_iterations = 0;
-  Models models(motions, hessians);
-  models.Adopt(RelinearizeAt(tracks, at_solution, &shares, motions, Models(motions, first.hessians), r));
+  Models models(motions, std::move(hessians));
+  {
+    const Models wide_models(motions, first.hessians);
+    models.RetakeAt(tracks, at_solution, &shares, motions, r, &wide_models);
+  }
+  first.hessians = std::vector<LocalHessian>();  // the wide models are done with
   const double retake_seconds = retake.Seconds();
-  GlobalBAResult out = CheckedRelinearization(tracks, lh_options, r.poses, models.frames(), models.hessians(), options,
+  GlobalBAResult out = CheckedRelinearization(tracks, lh_options, r.poses, models.frames(), models.TakeHessians(), options,
                                               Shifted(callback, r.summary.iterations), gcps);
   GlobalBASummary& s = out.summary;
   s.iterations += r.summary.iterations;
@@ -373,13 +385,15 @@ GlobalBAResult GraduatedRelinearization(const Reconstruction& tracks, const Loca
 
 GlobalBAResult RelinearizedGlobalBA(const Reconstruction& tracks, const LocalHessianOptions& lh_options,
                                     const std::map<uint32_t, Pose>& initial_poses,
-                                    const std::vector<LocalMotion>& motions, const std::vector<LocalHessian>& hessians,
+                                    const std::vector<LocalMotion>& motions, std::vector<LocalHessian> hessians,
                                     const GlobalBAOptions& options, const GlobalBAIterationCallback& callback,
                                     const GcpInput* gcps) {
   GlobalBAResult r =
       options.relinearize_checked
-          ? GraduatedRelinearization(tracks, lh_options, initial_poses, motions, hessians, options, callback, gcps)
-          : UncheckedRelinearization(tracks, lh_options, initial_poses, motions, hessians, options, callback, gcps);
+          ? GraduatedRelinearization(tracks, lh_options, initial_poses, motions, std::move(hessians), options, callback,
+                                     gcps)
+          : UncheckedRelinearization(tracks, lh_options, initial_poses, motions, std::move(hessians), options, callback,
+                                     gcps);
   if (r.summary.stop_reason == "max_relinearizations")
     PGBA_LOG_WARN << "global BA: not converged after " << r.summary.relinearizations
                   << " re-linearisations (global_ba.max_relinearizations); the poses are the last pass's";

@@ -11,47 +11,47 @@
 namespace pgba::internal {
 
 // The models in force: the motions' frames and local Hessians, index-aligned with the motions.
-// They start as the caller's vectors and are replaced by re-linearised ones without copying
-// the unchanged (a motion's h is (6N + K)^2 doubles: copying all of them each pass cost 15%
-// of the pointless BA's time on a 70-image orbit).
+// They start as the caller's vectors, borrowed, and are re-taken into storage of their own, each
+// motion's new model replacing its old one as soon as it is made: one model per motion is held,
+// not the old and the new set side by side (a motion's h is (6N + K)^2 doubles, together the
+// largest memory of a large block). The caller's vectors are never copied as a whole (copying
+// all of them each pass cost 15% of the pointless BA's time on a 70-image orbit).
 class Models {
  public:
   Models(const std::vector<LocalMotion>& motions, const std::vector<LocalHessian>& hessians)
       : frames_(&motions), hessians_(&hessians) {}
+  // The local Hessians handed over: re-taken in place from the first pass on.
+  Models(const std::vector<LocalMotion>& motions, std::vector<LocalHessian>&& hessians)
+      : frames_(&motions), hessians_(&owned_hessians_), owned_hessians_(std::move(hessians)) {}
+  Models(const Models&) = delete;
+  Models& operator=(const Models&) = delete;
   const std::vector<LocalMotion>& frames() const { return *frames_; }
   const std::vector<LocalHessian>& hessians() const { return *hessians_; }
+  // The local Hessians in force, handed over (copied if still borrowed); frames() stays.
+  std::vector<LocalHessian> TakeHessians() {
+    if (hessians_ != &owned_hessians_) return *hessians_;
+    return std::move(owned_hessians_);
+  }
 
-  // The models re-taken at one solution: index into the motions, frame and local Hessian.
-  struct Retaken {
-    std::vector<int> index;
-    std::vector<LocalMotion> frames;
-    std::vector<LocalHessian> hessians;
-  };
-
-  // The re-taken models in force from now on; the others kept.
-  void Adopt(Retaken&& r);
+  // The local Hessians of `motions` re-taken where `result` puts them (points re-triangulated,
+  // no local iteration): only the motions `result` used and whose Hessian comes out ok replace
+  // theirs; the others keep their model. Each track is triangulated from its point in the model
+  // of `start` (nullptr: these models), moved into the new frame (TriangulateTrackFrom): the
+  // checked cost is then continuous along a step, where a triangulation from scratch dropped
+  // points whose consensus search chose another solution. Returns the motions replaced.
+  std::vector<int> RetakeAt(const Reconstruction& tracks, const LocalHessianOptions& at_solution,
+                            const ObservationShares* shares, const std::vector<LocalMotion>& motions,
+                            const GlobalBAResult& result, const Models* start = nullptr);
 
  private:
   const std::vector<LocalMotion>* frames_;
   const std::vector<LocalHessian>* hessians_;
-  std::vector<LocalMotion> owned_frames_;
   std::vector<LocalHessian> owned_hessians_;
+  std::vector<LocalMotion> owned_frames_;
 };
 
-
-// The local Hessians of `motions` re-taken where `result` puts them (points re-triangulated,
-// no local iteration): only the motions `result` used and whose Hessian came out ok. Each
-// track is triangulated from its point in the model in force (`models`), moved into the new
-// frame (TriangulateTrackFrom): the checked cost is then continuous along a step, where a
-// triangulation from scratch dropped points whose consensus search chose another solution.
-Models::Retaken RelinearizeAt(const Reconstruction& tracks, const LocalHessianOptions& at_solution,
-                              const ObservationShares* shares, const std::vector<LocalMotion>& motions,
-                              const Models& models, const GlobalBAResult& result);
-
-// The true robust reprojection cost of the motions `used` used, from their models (the
-// re-taken one where there is one).
-double TotalRobustCost(const std::vector<LocalHessian>& models, const Models::Retaken* retaken,
-                       const GlobalBAResult& used);
+// The true robust reprojection cost of the motions `used` used, from their models.
+double TotalRobustCost(const std::vector<LocalHessian>& models, const GlobalBAResult& used);
 
 // The observation shares of `motions` if at_solution.shared_observation_weighting, else none.
 ObservationShares SharesOf(const Reconstruction& tracks, const std::vector<LocalMotion>& motions,

@@ -56,11 +56,13 @@ LocalHessian ComputeLocalHessian(const Reconstruction& tracks, const LocalMotion
   for (const LocalObservation& o : problem.observations) mean_share += o.weight;
   out.observation_weight = problem.observation_weight * mean_share / std::max<size_t>(1, problem.observations.size());
 
+  GaugePrior input_prior;
   if (options.prior_placement == PriorPlacement::kLocalBAAndHessian) {
     // The extrinsics observed at their input values, with mu from h at the input.
     const ReducedCameraSystem h_in = ReducedCameraMatrix(problem);
     const int n = 6 * problem.num_views();  // the pose prior of the local BA: pose rows only
-    problem.prior = ComputeGaugePrior(h_in.h, problem.poses, MedianDepth(problem), options).P.topLeftCorner(n, n);
+    input_prior = ComputeGaugePrior(h_in.h, problem.poses, MedianDepth(problem), options);
+    problem.prior = input_prior.P.topLeftCorner(n, n);
   }
   if (!SolveLocalBundle(options.solver, &problem)) {
     out.status = LocalHessianStatus::kSolverFailure;
@@ -88,9 +90,12 @@ LocalHessian ComputeLocalHessian(const Reconstruction& tracks, const LocalMotion
   }
   GaugePrior prior = ComputeGaugePrior(reduced.h, problem.poses, out.depth_scale, options);
   out.eigenvalue_ratio = prior.eigenvalue_ratio;
-  if (options.prior_placement == PriorPlacement::kLocalBAAndHessian)  // the one it used
+  if (options.prior_placement == PriorPlacement::kLocalBAAndHessian) {  // the one it used
     prior.P.topLeftCorner(problem.prior.rows(), problem.prior.cols()) = problem.prior;
-  out.prior = prior.P;
+    prior.F = Eigen::MatrixXd::Zero(prior.P.rows(), input_prior.F.cols());
+    prior.F.topRows(problem.prior.rows()) = input_prior.F.topRows(problem.prior.rows());
+  }
+  out.prior_factor = std::move(prior.F);
   out.prior_mu = prior.mu;
   // min_eigenvalue_ratio <= 0 disables the rank test (whole-track motions: a direction of h
   // that no track of the motion sees is seen by the other motions).
@@ -99,25 +104,38 @@ LocalHessian ComputeLocalHessian(const Reconstruction& tracks, const LocalMotion
     out.status = LocalHessianStatus::kIllConditioned;
     return out;
   }
-  out.h = reduced.h + prior.P;
+  const Eigen::MatrixXd h = reduced.h + prior.P;
+  out.h = SymmetricMatrix(h);
   // Minimiser of the quadratic of paper eq. 3, delta^T h delta / 2 + g^T delta (Ceres'
   // 1/2 |r|^2 convention): -h^-1 g. g is orthogonal to the similarity directions (the cost
   // is invariant under them), so the prior on those directions does not bias the step. As a
   // pseudo-inverse: a whole-track motion may leave a view's direction unseen (a view few of
   // its tracks reach; the other motions see it), and that direction then takes no step
   // rather than an unbounded one (LDLT: a zero pivot gives a zero component).
+  // The factor itself is not kept (LocalHessian::Factor recomputes it), only checked.
+  out.factor = options.factor;
+  Eigen::MatrixXd V;
+  Eigen::VectorXd D;
   if (options.factor == HessianFactor::kLdlt) {
-    out.newton_step = -FactorReducedMatrixLdlt(out.h, &out.V, &out.D).solve(out.reduced_gradient);
+    out.newton_step = -FactorReducedMatrixLdlt(h, &V, &D).solve(out.reduced_gradient);
   } else {
-    DecomposeReducedMatrix(out.h, &out.V, &out.D);  // paper eq. 5
-    out.newton_step = -PseudoInverseSolve(out.V, out.D, out.reduced_gradient);
+    DecomposeReducedMatrix(h, &V, &D);  // paper eq. 5
+    out.newton_step = -PseudoInverseSolve(V, D, out.reduced_gradient);
   }
-  if (!out.V.allFinite() || !out.D.allFinite() || !out.newton_step.allFinite()) {
+  if (!V.allFinite() || !D.allFinite() || !(D.size() > 0 && D.maxCoeff() > 0) || !out.newton_step.allFinite()) {
     out.status = LocalHessianStatus::kNonFinite;
     return out;
   }
   out.status = LocalHessianStatus::kOk;
   return out;
+}
+
+void LocalHessian::Factor(Eigen::MatrixXd* V, Eigen::VectorXd* D) const {
+  if (factor == HessianFactor::kLdlt) {
+    FactorReducedMatrixLdlt(h.Dense(), V, D);
+  } else {
+    DecomposeReducedMatrix(h.Dense(), V, D);
+  }
 }
 
 ObservationShares CountObservationShares(const Reconstruction& tracks, const std::vector<LocalMotion>& motions) {

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "modules/local_hessian/symmetric_matrix.h"
 #include "pgba/geometry/pose.h"
 #include "pgba/optim/intrinsics.h"
 #include "pgba/optim/loss_function_options.h"
@@ -201,13 +202,13 @@ struct LocalHessian {
   std::vector<uint32_t> intrinsic_camera_ids;
   std::vector<std::vector<int>> intrinsic_free;
   Eigen::VectorXd intrinsics0;
-  // Camera reduced matrix including the gauge prior: h = h_points + prior (6N x 6N).
-  Eigen::MatrixXd h;
-  // h = V^T diag(D)^2 V (HessianFactor): with kEigen rows of V are orthonormal eigenvectors,
-  // D the square roots of the eigenvalues (negative ones clamped to 0), ascending; with kLdlt
-  // V = L^T P and D the square roots of the pivots.
-  Eigen::MatrixXd V;
-  Eigen::VectorXd D;
+  // Camera reduced matrix including the gauge prior: h = h_points + prior (6N x 6N). The one
+  // (6N + K)^2 matrix a motion keeps, one triangle of it (symmetric_matrix.h): the global BA's
+  // normal equations need h itself, and its weight W = diag(D) V (paper eq. 5) is recomputed
+  // from h where a residual vector is needed (Factor), not stored beside it.
+  SymmetricMatrix h;
+  // How W is factored from h (LocalHessianOptions::factor; kEigen for h read from a workspace).
+  HessianFactor factor = HessianFactor::kLdlt;
   // Reduced gradient g of paper eq. 3 at local_poses (same chart and weights as h).
   Eigen::VectorXd reduced_gradient;
   // Minimiser of the quadratic model of paper eq. 3 relative to local_poses: -h^-1 g, in
@@ -215,8 +216,9 @@ struct LocalHessian {
   // gradient term that paper eq. 5 drops (zero when the local BA converged; not zero when h
   // is re-linearised away from the triplet's optimum, global_ba.h "relinearization").
   Eigen::VectorXd newton_step;
-  // The gauge prior added to h (h = h_points + prior) and its mu.
-  Eigen::MatrixXd prior;
+  // The gauge prior added to h (h = h_points + prior), of low rank, as its factor F with
+  // prior = F F^T (6N + K rows; 7 columns for PriorShape::kSimilarity), and its mu.
+  Eigen::MatrixXd prior_factor;
   double prior_mu = 0.0;
   // Weight of each observation's squared residual, gamma / M (1 if disabled); with
   // shared_observation_weighting its mean over the triplet's observations.
@@ -239,6 +241,12 @@ struct LocalHessian {
 
   int num_views() const { return static_cast<int>(image_ids.size()); }
   int num_intrinsics() const { return static_cast<int>(intrinsics0.size()); }
+  // The gauge prior as a matrix, F F^T.
+  Eigen::MatrixXd Prior() const { return prior_factor * prior_factor.transpose(); }
+  // h = V^T diag(D)^2 V by `factor`: with kEigen rows of V are orthonormal eigenvectors, D the
+  // square roots of the eigenvalues (negative ones clamped to 0), ascending; with kLdlt
+  // V = L^T P and D the square roots of the pivots. Deterministic: the same h gives the same bits.
+  void Factor(Eigen::MatrixXd* V, Eigen::VectorXd* D) const;
 };
 
 struct LocalHessianResult {

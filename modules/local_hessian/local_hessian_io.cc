@@ -77,8 +77,9 @@ std::vector<PointStart> ReadPoints(const WorkspaceJsonReader& reader, const json
 fs::path WorkspaceLocalHessiansPath(const fs::path& workspace) { return workspace / "local_hessians.json"; }
 
 void WriteLocalHessians(const fs::path& path, const Reconstruction& tracks, const LocalHessianResult& result) {
-  std::vector<json> entries;
-  for (const LocalHessian& lh : result.hessians) {
+  // One motion's entry at a time: the file is written as it is made.
+  const auto entry = [&](size_t k) {
+    const LocalHessian& lh = result.hessians[k];
     json e;
     e["motion_index"] = lh.motion_index;
     e["images"] = json::array();
@@ -99,7 +100,7 @@ void WriteLocalHessians(const fs::path& path, const Reconstruction& tracks, cons
       }
       json h = json::array();
       for (int r = 0; r < lh.h.rows(); ++r)
-        for (int c = 0; c < lh.h.cols(); ++c) h.push_back(lh.h(r, c));
+        for (int c = 0; c < lh.h.cols(); ++c) h.push_back(lh.h(r, c));  // both triangles
       e["h"] = h;
       e["observation_weight"] = lh.observation_weight;
       e["depth_scale"] = lh.depth_scale;
@@ -118,9 +119,9 @@ void WriteLocalHessians(const fs::path& path, const Reconstruction& tracks, cons
         e["points"] = std::move(points);
       }
     }
-    entries.push_back(std::move(e));
-  }
-  WriteStringAtomically(path, internal_workspace::Document(kFormat, "hessians", entries));
+    return e;
+  };
+  internal_workspace::WriteDocument(path, kFormat, "hessians", result.hessians.size(), entry);
 }
 
 LocalHessianResult ReadLocalHessians(const fs::path& path, const Reconstruction& tracks,
@@ -162,13 +163,15 @@ LocalHessianResult ReadLocalHessians(const fs::path& path, const Reconstruction&
       for (size_t v = 0; v < n; ++v)
         lh.local_poses[v] = reader.PoseOf(poses[v], where + ".local_poses[" + std::to_string(v) + "]");
       const Eigen::VectorXd h = reader.Numbers(reader.Field(e, "h", where), dim * dim, where + ".h");
-      lh.h = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(h.data(), dim, dim);
-      const double scale = lh.h.cwiseAbs().maxCoeff();
+      const Eigen::MatrixXd dense =
+          Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(h.data(), dim, dim);
+      const double scale = dense.cwiseAbs().maxCoeff();
       if (!(scale > 0)) reader.Fail(where + ".h", "zero matrix");
-      if ((lh.h - lh.h.transpose()).cwiseAbs().maxCoeff() > 1e-9 * scale) reader.Fail(where + ".h", "not symmetric");
-      if (Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(lh.h, Eigen::EigenvaluesOnly).eigenvalues()(0) < -1e-9 * scale)
+      if ((dense - dense.transpose()).cwiseAbs().maxCoeff() > 1e-9 * scale) reader.Fail(where + ".h", "not symmetric");
+      lh.h = SymmetricMatrix(dense);
+      if (Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(dense, Eigen::EigenvaluesOnly).eigenvalues()(0) < -1e-9 * scale)
         reader.Fail(where + ".h", "not positive semi-definite");
-      DecomposeReducedMatrix(lh.h, &lh.V, &lh.D);  // paper eq. 5
+      lh.factor = HessianFactor::kEigen;  // paper eq. 5
       lh.observation_weight = reader.Number(reader.Field(e, "observation_weight", where), where);
       lh.depth_scale = reader.Number(reader.Field(e, "depth_scale", where), where);
       if (!(lh.observation_weight > 0) || !(lh.depth_scale > 0))

@@ -210,6 +210,7 @@ GaugePrior ComputeGaugePrior(const Eigen::MatrixXd& h, const std::vector<PoseBlo
   // are taken on the pose block.
   const int total = static_cast<int>(h.rows());
   prior.P = Eigen::MatrixXd::Zero(std::max(total, n), std::max(total, n));
+  prior.F = Eigen::MatrixXd::Zero(std::max(total, n), 0);
   if (total < n || h.cols() != total || n <= kGaugeDimension) return prior;
   const double L = options.prior_scale_aware && depth_scale > 0 ? depth_scale : 1.0;
   Eigen::VectorXd s(n);  // [c, omega] = diag(s) [c / L, omega]
@@ -229,14 +230,18 @@ GaugePrior ComputeGaugePrior(const Eigen::MatrixXd& h, const std::vector<PoseBlo
   if (!(lmax > 0) || !std::isfinite(lmax)) return prior;
   prior.mu = options.prior_relative * lmax;
   Eigen::MatrixXd Ps;  // in the scaled chart
+  const Eigen::VectorXd inv_s = s.cwiseInverse();
   if (options.prior_shape == PriorShape::kIsotropic) {
     Ps = prior.mu * Eigen::MatrixXd::Identity(n, n);
+    prior.F = Eigen::MatrixXd::Zero(prior.P.rows(), n);
+    prior.F.topRows(n) = (std::sqrt(prior.mu) * inv_s).asDiagonal();
   } else {
     const Eigen::HouseholderQR<Eigen::MatrixXd> qr(SimilarityGenerators(poses, L));
     const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(n, kGaugeDimension);
     Ps = prior.mu * Q * Q.transpose();
+    prior.F = Eigen::MatrixXd::Zero(prior.P.rows(), kGaugeDimension);
+    prior.F.topRows(n) = std::sqrt(prior.mu) * inv_s.asDiagonal() * Q;
   }
-  const Eigen::VectorXd inv_s = s.cwiseInverse();
   prior.P.topLeftCorner(n, n) = inv_s.asDiagonal() * Ps * inv_s.asDiagonal();
   return prior;
 }

@@ -28,6 +28,7 @@ ReducedCameraSystem ReducedCameraMatrix(const LocalBundleProblem& problem);
 // rank test of the motion.
 struct GaugePrior {
   Eigen::MatrixXd P;  // added to h
+  Eigen::MatrixXd F;  // P = F F^T up to rounding (7 columns for kSimilarity, diagonal for kIsotropic)
   double mu = 0.0;
   // (6N-7)-th largest / largest eigenvalue of h (before the prior) in the chart used for mu.
   double eigenvalue_ratio = 0.0;

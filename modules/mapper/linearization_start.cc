@@ -59,9 +59,9 @@ std::map<uint32_t, Pose> TripletPointlessStart(const Reconstruction& tracks, con
   paper_ba.max_rounds = 1;
   paper_ba.max_relinearizations = 0;
   paper_ba.solver.max_iterations = max_iterations;
-  const LocalHessianResult h = ComputeLocalHessians(tracks, triplets, paper_lh);
+  LocalHessianResult h = ComputeLocalHessians(tracks, triplets, paper_lh);
   const GlobalBAResult r =
-      RelinearizedGlobalBA(tracks, paper_lh, initial, triplets, h.hessians, paper_ba);
+      RelinearizedGlobalBA(tracks, paper_lh, initial, triplets, std::move(h.hessians), paper_ba);
   std::map<uint32_t, Pose> start = initial;
   for (const auto& [id, pose] : r.poses) start[id] = pose;
   return start;

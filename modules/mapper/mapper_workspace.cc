@@ -75,11 +75,17 @@ PointlessMapperResult ReadMapperWorkspace(const Reconstruction& tracks, const st
   return out;
 }
 
+void WriteLocalHessianWorkspace(const std::string& workspace, const Reconstruction& tracks,
+                                const PreparedHessians& hessians) {
+  fs::create_directories(workspace);
+  WriteMotions(WorkspaceMotionsPath(workspace), tracks,
+               {hessians.motions, hessians.triplet_rotation_misfit, hessians.linearization_poses});
+  WriteLocalHessians(WorkspaceLocalHessiansPath(workspace), tracks, hessians.result);
+}
+
 void WriteReconstruction(const std::string& out, const Reconstruction& tracks, const PointlessMapperResult& result) {
   WriteGlobalMapperWorkspace(out, tracks, result.initial);
-  WriteMotions(WorkspaceMotionsPath(out), tracks,
-               {result.hessians.motions, result.hessians.triplet_rotation_misfit, result.hessians.linearization_poses});
-  WriteLocalHessians(WorkspaceLocalHessiansPath(out), tracks, result.hessians.result);
+  if (!result.hessians.released) WriteLocalHessianWorkspace(out, tracks, result.hessians);
   const fs::path sparse = fs::path(out) / "sparse";
   WriteColmapText(result.model, sparse.string());
   WritePly(result.model, (fs::path(out) / "points.ply").string());

@@ -26,9 +26,14 @@ void WriteGlobalMapperWorkspace(const std::string& workspace, const Reconstructi
 PointlessMapperResult ReadMapperWorkspace(const Reconstruction& tracks, const std::string& workspace,
                                           const PointlessMapperOptions& options, Report* report);
 
-// The workspace of `init` (WriteGlobalMapperWorkspace), OUT/motions.json,
-// OUT/local_hessians.json (the largest model's), OUT/sparse/N/ with OUT/sparse/N/points.ply for
-// every model N (largest first), and the largest model as OUT/sparse/ and OUT/points.ply.
+// Step 5's artefacts: WS/motions.json and WS/local_hessians.json.
+void WriteLocalHessianWorkspace(const std::string& workspace, const Reconstruction& tracks,
+                                const PreparedHessians& hessians);
+
+// The workspace of `init` (WriteGlobalMapperWorkspace), OUT/motions.json and
+// OUT/local_hessians.json (the largest model's; unless the mapper wrote them already:
+// PreparedHessians::released), OUT/sparse/N/ with OUT/sparse/N/points.ply for every model N
+// (largest first), and the largest model as OUT/sparse/ and OUT/points.ply.
 void WriteReconstruction(const std::string& out, const Reconstruction& tracks, const PointlessMapperResult& result);
 
 }  // namespace pgba

@@ -3,12 +3,16 @@
 #include <algorithm>
 #include <map>
 #include <cstdio>
+#include <filesystem>
 #include <optional>
 #include <set>
 #include <stdexcept>
 #include <utility>
 
 #include "mapper/dropped_images.h"
+#include "mapper/mapper_workspace.h"
+#include "local_hessian/local_hessian_io.h"
+#include "pgba/io/workspace.h"
 #include "pgba/scene/triangulate_model.h"
 #include "pgba/util/error.h"
 #include "pgba/util/logging.h"
@@ -224,8 +228,9 @@ void RenameStages(Report* report, std::initializer_list<const char*> names, cons
 // The stages of an adjustment that is done again, kept under "NAME_before_joining".
 void KeepFirstAdjustmentStages(Report* report) {
   RenameStages(report,
-               {"local_hessians", "global_ba", "gcp_check", "convergence", "verification", "triangulation", "more_models",
-                "local_hessians_before_readjustment", "global_ba_before_readjustment",
+               {"local_hessians", "local_hessians_output", "global_ba", "gcp_check", "convergence", "verification",
+                "triangulation", "more_models", "local_hessians_before_readjustment",
+                "local_hessians_output_before_readjustment", "global_ba_before_readjustment",
                 "verification_before_readjustment"},
                "_before_joining");
 }
@@ -263,13 +268,35 @@ std::optional<GcpInput> TransferToGcpFrame(const Reconstruction& tracks, const P
   return gcps;
 }
 
+// With options.workspace, step 5's artefacts written as soon as they are ready (the local
+// Hessians are then handed to the global BA rather than kept for the output).
+void WriteHessiansToWorkspace(const Reconstruction& tracks, const PointlessMapperOptions& options,
+                              const PreparedHessians& hessians, Report* report) {
+  if (options.workspace.empty()) return;
+  StageTimer timer(report, "local_hessians_output");  // motions.json, local_hessians.json
+  WriteLocalHessianWorkspace(options.workspace, tracks, hessians);
+}
+
+// An earlier adjustment restored after a failed one: the workspace's local Hessians are not its
+// own, so they are removed (a run from the workspace computes them again).
+void ForgetWorkspaceHessians(const PointlessMapperOptions& options) {
+  if (options.workspace.empty()) return;
+  std::error_code ignored;
+  std::filesystem::remove(WorkspaceMotionsPath(options.workspace), ignored);
+  std::filesystem::remove(WorkspaceLocalHessiansPath(options.workspace), ignored);
+}
+
 // Step 7: the pointless global BA from the initial poses on the local Hessians.
+// With options.workspace the local Hessians, on disk already, are handed to the adjustment.
 RefinementResult AdjustPointless(const Reconstruction& tracks, const GlobalInitResult& init,
-                                 const PreparedHessians& hessians, const PointlessMapperOptions& options,
+                                 PreparedHessians* hessians, const PointlessMapperOptions& options,
                                  const GcpInput* gcps, Report* report) {
   StageTimer timer(report, "global_ba");
   RefinementResult refined =
-      RefinePointless(tracks, init.poses, hessians, options.refinement, options.record_convergence, gcps);
+      options.workspace.empty()
+          ? RefinePointless(tracks, init.poses, *hessians, options.refinement, options.record_convergence, gcps)
+          : RefinePointlessReleasing(tracks, init.poses, hessians, options.refinement, options.record_convergence,
+                                     gcps);
   nlohmann::json& stage = timer.Stop();
   stage["params"] = refined.num_params;
   stage["iterations"] = refined.iterations;
@@ -364,18 +391,21 @@ bool VerificationChanged(const ImageVerificationResult& v) { return v.num_droppe
 // one standing, with the reason in the report.
 void Readjust(const Reconstruction& tracks, const std::vector<TwoViewGeometry>& pairs,
               const PointlessMapperOptions& options, const GcpInput* gcps, Report* report, GlobalInitResult* init,
-              PreparedHessians* hessians, RefinementResult* refined, ImageVerificationResult* verification) {
+              PreparedHessians* hessians, RefinementResult* refined, ImageVerificationResult* verification,
+              bool write_workspace) {
   if (!VerificationChanged(*verification)) return;
   PGBA_LOG_INFO << "adjusting again from the verified poses"
                 << (verification->num_dropped ? ", without the " + std::to_string(verification->num_dropped) +
                                                     (verification->num_dropped == 1 ? " image" : " images") + " dropped"
                                               : std::string());
   const nlohmann::json stages = (*report)["stages"];
-  RenameStages(report, {"local_hessians", "global_ba", "verification"}, "_before_readjustment");
+  RenameStages(report, {"local_hessians", "local_hessians_output", "global_ba", "verification"},
+               "_before_readjustment");
   GlobalInitResult start = AdjustedStart(*init, refined->poses);
   try {
     PreparedHessians again = ComputeMotionHessians(tracks, start, options.refinement, report);
-    RefinementResult adjusted = AdjustPointless(tracks, start, again, options, gcps, report);
+    if (write_workspace) WriteHessiansToWorkspace(tracks, options, again, report);
+    RefinementResult adjusted = AdjustPointless(tracks, start, &again, options, gcps, report);
     adjusted.history.clear();
     ImageVerificationResult second;
     VerifyImages(tracks, pairs, options.verification, report, &adjusted, &second);
@@ -390,6 +420,7 @@ void Readjust(const Reconstruction& tracks, const std::vector<TwoViewGeometry>& 
         << (refined->poses.empty() ? "" : "warning: ")
         << "the adjustment again without the images the verification dropped failed, the first one is kept: "
         << e.what();
+    if (write_workspace) ForgetWorkspaceHessians(options);
     (*report)["stages"] = stages;
     (*report)["stages"]["verification"]["readjustment_failed"] = e.what();
   }
@@ -448,10 +479,11 @@ void AdjustModel(const Reconstruction& tracks, const std::vector<TwoViewGeometry
                  const PointlessMapperOptions& options, ComponentModel* m, nlohmann::json* record) {
   Report scratch;
   m->hessians = ComputeMotionHessians(tracks, m->init, options.refinement, &scratch);
-  m->refined = AdjustPointless(tracks, m->init, m->hessians, options, nullptr, &scratch);
+  m->refined = AdjustPointless(tracks, m->init, &m->hessians, options, nullptr, &scratch);
   m->refined.history.clear();
   VerifyImages(tracks, pairs, options.verification, &scratch, &m->refined, &m->verification);
-  Readjust(tracks, pairs, options, nullptr, &scratch, &m->init, &m->hessians, &m->refined, &m->verification);
+  Readjust(tracks, pairs, options, nullptr, &scratch, &m->init, &m->hessians, &m->refined, &m->verification,
+           /*write_workspace=*/false);
   m->model = Triangulate(tracks, m->refined, &scratch);
   *record = {{"images", m->init.poses.size()},
              {"images_registered", m->refined.poses.size()},
@@ -466,7 +498,7 @@ void AdjustModels(const Reconstruction& tracks, const std::vector<TwoViewGeometr
                   const PointlessMapperOptions& options, const GcpInput* gcps, Report* report,
                   PointlessMapperResult* r) {
   // 7. Pointless global BA, re-linearised at its solution.
-  r->refined = AdjustPointless(tracks, r->initial.init, r->hessians, options, gcps, report);
+  r->refined = AdjustPointless(tracks, r->initial.init, &r->hessians, options, gcps, report);
   if (options.record_convergence) {
     StageTimer timer(report, "convergence");
     r->convergence = EvaluateConvergence(tracks, r->refined.history, options.convergence);
@@ -476,7 +508,8 @@ void AdjustModels(const Reconstruction& tracks, const std::vector<TwoViewGeometr
   // 8. Every registered image verified; a failing one registered again or dropped, and then
   //    the model adjusted again (steps 5 and 7) from the verified poses.
   VerifyImages(tracks, pairs, options.verification, report, &r->refined, &r->verification);
-  Readjust(tracks, pairs, options, gcps, report, &r->initial.init, &r->hessians, &r->refined, &r->verification);
+  Readjust(tracks, pairs, options, gcps, report, &r->initial.init, &r->hessians, &r->refined, &r->verification,
+           /*write_workspace=*/true);
   if (gcps) CheckFinalGcps(*gcps, r->refined.poses, report);
   // 9. Points triangulated with the final poses.
   r->model = Triangulate(tracks, r->refined, report);
@@ -555,6 +588,7 @@ PointlessMapperResult PointlessMapper::Solve(const Reconstruction& input, Report
 
   // 5. Relative motions and their local Hessians.
   if (r.hessians.motions.empty()) r.hessians = ComputeMotionHessians(tracks(), r.initial.init, options_.refinement, report);
+  WriteHessiansToWorkspace(tracks(), options_, r.hessians, report);
   // 6. GCPs: the initial solution in their frame.
   const std::optional<GcpInput> gcps = TransferToGcpFrame(tracks(), options_, report, &r.initial.init);
   // 7. Pointless global BA, re-linearised at its solution until converged; 8. every registered
@@ -582,9 +616,11 @@ PointlessMapperResult PointlessMapper::Solve(const Reconstruction& input, Report
         r.more_models.clear();
         for (size_t m = 1; m < models.size(); ++m) r.more_models.push_back({std::move(models[m]), {}, {}, {}, {}});
         r.hessians = ComputeMotionHessians(tracks(), r.initial.init, options_.refinement, report);
+        WriteHessiansToWorkspace(tracks(), options_, r.hessians, report);
         AdjustModels(tracks(), r.initial.pairs, options_, gcps ? &*gcps : nullptr, report, &r);
       } catch (const InputError& e) {
         PGBA_LOG_WARN << "the adjustment with the joined images failed, the first one is kept: " << e.what();
+        ForgetWorkspaceHessians(options_);
         ComponentJoiningResult joining = std::move(r.joining);
         r = first;
         (*report)["stages"] = stages;

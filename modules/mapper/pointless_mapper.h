@@ -52,6 +52,11 @@ struct PointlessMapperOptions {
   ComponentJoiningOptions components;
   // Stop after step 4, the initial solution (`pgba init`). Not a config key.
   bool skip_refinement = false;
+  // Where step 5's artefacts (motions.json, local_hessians.json, mapper_workspace.h) are written
+  // as soon as the local Hessians are ready, which are then handed to the global BA rather than
+  // kept in the result (PreparedHessians::released). Empty: kept, for the caller. Not a config
+  // key (`reconstruct` and `run` set their output folder).
+  std::string workspace;
 
   // Empty if valid, else "section.key: problem" for the first invalid option.
   std::string Check() const;

@@ -67,10 +67,9 @@ PreparedHessians PrepareLocalHessians(const Reconstruction& tracks, const std::m
     // keep their initial pose, so that the motions are chosen over the same images as from
     // a workspace's initial poses (ChooseLocalMotions).
     PGBA_LOG_DEBUG << "local motions: the triplets' pointless BA gives the motions their starting poses";
-    const LocalHessianResult triplet_hessians = ComputeLocalHessians(tracks, triplets, options.local_hessian);
-    const GlobalBAResult refined = RelinearizedGlobalBA(tracks, options.local_hessian, initial,
-                                                        triplets, triplet_hessians.hessians,
-                                                        options.global_ba);
+    LocalHessianResult triplet_hessians = ComputeLocalHessians(tracks, triplets, options.local_hessian);
+    const GlobalBAResult refined = RelinearizedGlobalBA(tracks, options.local_hessian, initial, triplets,
+                                                        std::move(triplet_hessians.hessians), options.global_ba);
     for (const auto& [id, pose] : refined.poses) start[id] = pose;
   } else if (options.local_motions.kind == MotionKind::kWholeTracks && options.local_motions.triplet_start_misfit > 0) {
     MeasureTripletStart(tracks, initial, triplets, options.local_motions, &out);
@@ -166,9 +165,12 @@ RefinementResult RefineOnMotions(const char* method, const Reconstruction& track
   return r;
 }
 
-RefinementResult RefinePointless(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
-                                 const PreparedHessians& hessians, const RefinementOptions& options,
-                                 bool record_history, const GcpInput* gcps) {
+namespace {
+
+// RefinePointless on `models`, the local Hessians of `hessians` (a copy, or handed over).
+RefinementResult RefinePointlessOn(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
+                                   const PreparedHessians& hessians, std::vector<LocalHessian> models,
+                                   const RefinementOptions& options, bool record_history, const GcpInput* gcps) {
   // The local Hessians re-linearised at the solution until converged (global_ba.h); their
   // passes count as adjustment time.
   const GlobalBAOptions& pointless = options.global_ba;
@@ -177,7 +179,7 @@ RefinementResult RefinePointless(const Reconstruction& tracks, const std::map<ui
       "pointless", tracks, initial, hessians, options, record_history,
       [&](const std::map<uint32_t, Pose>& start, const GlobalBAIterationCallback& callback) {
         GlobalBAResult g = RelinearizedGlobalBA(tracks, options.local_hessian, start, hessians.motions,
-                                                hessians.result.hessians, pointless, callback, gcps);
+                                                std::move(models), pointless, callback, gcps);
         summary = g.summary;
         return g;
       });
@@ -200,6 +202,23 @@ RefinementResult RefinePointless(const Reconstruction& tracks, const std::map<ui
   r.details["triplet_start"] = hessians.triplet_start();
   if (gcps) r.details["gcp_residuals"] = summary.num_gcp_residuals;
   return r;
+}
+
+}  // namespace
+
+RefinementResult RefinePointless(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
+                                 const PreparedHessians& hessians, const RefinementOptions& options,
+                                 bool record_history, const GcpInput* gcps) {
+  return RefinePointlessOn(tracks, initial, hessians, hessians.result.hessians, options, record_history, gcps);
+}
+
+RefinementResult RefinePointlessReleasing(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
+                                          PreparedHessians* hessians, const RefinementOptions& options,
+                                          bool record_history, const GcpInput* gcps) {
+  std::vector<LocalHessian> models = std::move(hessians->result.hessians);
+  hessians->result.hessians.clear();
+  hessians->released = true;
+  return RefinePointlessOn(tracks, initial, *hessians, std::move(models), options, record_history, gcps);
 }
 
 std::string PointBasedOptions::Check() const {

@@ -103,6 +103,9 @@ struct PreparedHessians {
   std::map<uint32_t, Pose> linearization_poses;
   // Whether the motions were linearised at the triplets' pointless BA (not the initial poses).
   bool triplet_start() const { return !linearization_poses.empty(); }
+  // The local Hessians were handed to the global BA (RefinePointlessReleasing): result.hessians
+  // is empty, its status counts stay.
+  bool released = false;
 };
 PreparedHessians PrepareLocalHessians(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
                                       const std::vector<LocalMotion>& triplets, const RefinementOptions& options);
@@ -121,6 +124,13 @@ void MeasureTripletStart(const Reconstruction& tracks, const std::map<uint32_t, 
 RefinementResult RefinePointless(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
                                  const PreparedHessians& hessians, const RefinementOptions& options,
                                  bool record_history = false, const GcpInput* gcps = nullptr);
+// The same, the local Hessians handed over to the global BA, which re-takes them in place: one
+// model per motion is held during the adjustment, not the caller's and the adjustment's
+// (the largest memory of a large block). hessians->result.hessians is left empty and
+// hessians->released set.
+RefinementResult RefinePointlessReleasing(const Reconstruction& tracks, const std::map<uint32_t, Pose>& initial,
+                                          PreparedHessians* hessians, const RefinementOptions& options,
+                                          bool record_history = false, const GcpInput* gcps = nullptr);
 
 // A global BA on the prepared motions, from `start`, reporting its iterations to `callback`
 // (empty: none).

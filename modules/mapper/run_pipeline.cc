@@ -165,6 +165,7 @@ RunOutput RunPipeline(const std::string& images_dir, const CalibrationInput& cal
   reconstruction.refinement.calibration_is_prior =
       options.calibration_is_prior || features.calibration_source.rfind("file:", 0) != 0;
   reconstruction.record_convergence = true;
+  reconstruction.workspace = out;
   (*report)["calibration_is_prior"] = reconstruction.refinement.calibration_is_prior;
   const PointlessMapper mapper(reconstruction);
   const size_t first_pass_stage = NumStages(*report);

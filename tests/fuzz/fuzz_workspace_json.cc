@@ -87,7 +87,7 @@ std::vector<std::string> Seeds() {
     h.image_ids.assign(t.image_ids.begin(), t.image_ids.end());
     h.status = LocalHessianStatus::kOk;
     h.local_poses.assign(t.local_poses.begin(), t.local_poses.end());
-    h.h = Eigen::MatrixXd::Identity(18, 18);
+    h.h = SymmetricMatrix(Eigen::MatrixXd::Identity(18, 18));
     h.track_points.resize(t.track_ids.size());
     h.track_points[0].X = Eigen::Vector3d(0.5, -1.0, 4.0);
     h.track_points[0].support = 3;

@@ -49,7 +49,7 @@ TEST(ChartConsistency, GlobalResidualPredictsReprojectionCost) {
     R0[k] = blocks[k].R0;
   }
   const MotionSimilarity sim = SimilarityFromSim3(global, t.global_to_local);
-  const MotionWeight W = MotionWeightOf(lh, PaperTripletGlobalBAOptions());
+  const MotionWeight W = MotionWeightOf(lh, PaperTripletGlobalBAOptions(), /*factored=*/true);
   // Global cost with the poses fixed and the similarity minimised over.
   auto global_cost = [&](std::vector<PoseBlock> b) {
     MotionSimilarity s = sim;

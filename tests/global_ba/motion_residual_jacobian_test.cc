@@ -16,6 +16,7 @@
 #include <Eigen/QR>
 #include <iostream>
 #include <random>
+#include <stdexcept>
 
 #include "pgba/geometry/rotation.h"
 
@@ -209,6 +210,29 @@ TEST(ViewDeviationJacobian, ClosedFormMatchesAutomaticDifferentiation) {
         EXPECT_NEAR(J(r, c), jd[r].v(c), 1e-11 * (1.0 + std::abs(jd[r].v(c)))) << "trial " << trial << " (" << r
                                                                                   << ", " << c << ")";
     }
+  }
+}
+
+// Held as its Gram matrix h = W^T W only, a residual gives the same |r|^2 and the same gradient
+// W^T r with respect to the deviation as with W itself: the formula's residual, squared.
+TEST(MotionResidualGram, SquaredNormAndGradientMatchTheFactoredWeight) {
+  for (unsigned seed = 1; seed <= 10; ++seed) {
+    const RandomMotion m = MakeMotion(2 + seed % 4, seed % 2 ? std::vector<int>{2} : std::vector<int>{}, seed);
+    const SymmetricMatrix h(m.W.transpose() * m.W);
+    const MotionResidual gram(m.R0, m.sim, m.x0, MotionWeight::OfGram(h), m.newton, m.kappa0, m.intrinsic_sizes);
+    const std::unique_ptr<MotionResidual> factored = MakeResidual(m, true);
+    std::vector<const double*> poses, intrinsics;
+    for (int k = 0; k < m.n; ++k) poses.push_back(m.blocks[k].data());
+    for (size_t c = 0; c < m.intrinsic_sizes.size(); ++c) intrinsics.push_back(m.blocks[m.n + 1 + c].data());
+    const double* sim = m.blocks[m.n].data();
+    const double expected = ResidualByFormula(m, m.blocks).squaredNorm();
+    EXPECT_NEAR(gram.SquaredNorm(poses, sim, intrinsics), expected, 1e-10 * expected) << "seed " << seed;
+    EXPECT_NEAR(factored->SquaredNorm(poses, sim, intrinsics), expected, 1e-10 * expected) << "seed " << seed;
+    const Eigen::VectorXd dx = gram.Deviation(poses, sim, intrinsics);
+    const Eigen::VectorXd g = m.W.transpose() * (m.W * (dx - m.newton));
+    EXPECT_LT((gram.DeviationGradient(dx) - g).norm(), 1e-10 * g.norm()) << "seed " << seed;
+    EXPECT_LT((factored->DeviationGradient(dx) - g).norm(), 1e-10 * g.norm()) << "seed " << seed;
+    EXPECT_THROW(gram.Evaluate(poses, sim, intrinsics), std::logic_error);
   }
 }
 

@@ -6,9 +6,12 @@
 #include <filesystem>
 #include <fstream>
 #include <thread>
+#include <vector>
 
 #include "pgba/io/report.h"
 #include "pgba/util/cpu_time.h"
+#include "pgba/util/timer.h"
+#include "pgba/util/timer.h"
 
 namespace pgba {
 namespace {
@@ -75,6 +78,48 @@ TEST(Report, StagesRecordTheirCpuTimeAndTheLoad) {
   EXPECT_GE(st["computing"]["cpu_seconds"].get<double>(), 0.19);
   EXPECT_GE(st["computing"]["seconds"].get<double>(), 0.19);  // one thread: wall >= its CPU time
   EXPECT_GE(st["computing"]["load_average"].get<double>(), 0.0);
+}
+
+// Each stage records its own peak resident memory: a stage that touches 256 MiB and frees
+// them peaks that much above the next stage, which allocates nothing, and the process' peak
+// keeps the first stage's. Where the kernel cannot reset the peak (clear_refs), every stage
+// reports the process' peak so far, and only the ordering of the first two holds.
+TEST(Report, StagesRecordTheirOwnPeakMemory) {
+  Report report;
+  constexpr size_t kBytes = size_t(256) << 20;
+  {
+    StageTimer t(&report, "allocating");
+    std::vector<char> block(kBytes, 1);
+    volatile char sink = block[kBytes / 2];
+    (void)sink;
+  }
+  const bool resettable = ResetPeakRss();
+  { StageTimer t(&report, "idle"); }
+  const nlohmann::json& j = report.json();
+  const double allocating = j["stages"]["allocating"]["peak_rss_mb"].get<double>();
+  const double idle = j["stages"]["idle"]["peak_rss_mb"].get<double>();
+  EXPECT_GE(allocating, 256.0);
+  EXPECT_GE(j["peak_rss_mb"].get<double>(), allocating - 1.0);
+  EXPECT_LE(j["stages"]["idle"]["rss_mb"].get<double>(), idle + 1.0);
+  if (resettable) EXPECT_LT(idle, allocating - 200.0);
+}
+
+// A scope sees the peaks of the scopes nested in it, though each of those resets the
+// kernel's peak (to 1 MiB: the kernel's resident counts lag by a few pages).
+TEST(PeakRssScope, NestedScopesKeepTheOuterPeak) {
+  PeakRssScope outer;
+  double inner_peak = 0.0;
+  {
+    PeakRssScope inner;
+    std::vector<char> block(size_t(128) << 20, 1);
+    volatile char sink = block[block.size() / 2];
+    (void)sink;
+    inner_peak = inner.PeakMb();
+  }
+  { PeakRssScope after; }  // resets the kernel's peak once more
+  EXPECT_GE(inner_peak, 128.0);
+  EXPECT_GE(outer.PeakMb(), inner_peak - 1.0);
+  EXPECT_GE(ProcessPeakRssMb(), inner_peak - 1.0);
 }
 
 }  // namespace

@@ -71,10 +71,13 @@ TEST(LocalHessianIo, RoundTripKeepsHessiansAndRebuildsTheDecomposition) {
     EXPECT_EQ(a.status, b.status);
     EXPECT_EQ(a.image_ids, b.image_ids);
     if (a.status != LocalHessianStatus::kOk) continue;
-    EXPECT_EQ((a.h - b.h).cwiseAbs().maxCoeff(), 0.0) << i;
+    EXPECT_EQ((a.h.Dense() - b.h.Dense()).cwiseAbs().maxCoeff(), 0.0) << i;
     // W^T W = h whatever eigenvector signs the decomposition picked.
-    const Matrix18d W = b.D.asDiagonal() * b.V;
-    EXPECT_LT((W.transpose() * W - a.h).norm(), 1e-9 * a.h.norm()) << i;
+    Eigen::MatrixXd V;
+    Eigen::VectorXd D;
+    b.Factor(&V, &D);
+    const Matrix18d W = D.asDiagonal() * V;
+    EXPECT_LT((W.transpose() * W - a.h.Dense()).norm(), 1e-9 * a.h.Dense().norm()) << i;
     EXPECT_EQ(a.observation_weight, b.observation_weight);
     EXPECT_EQ(a.depth_scale, b.depth_scale);
     EXPECT_EQ(a.newton_step, b.newton_step) << i;
@@ -147,11 +150,14 @@ TEST(LocalHessianIo, FiveViewMotionsRoundTripAndAreCheckedAgainstTheMotions) {
   for (size_t i = 0; i < motions.size(); ++i) {
     const LocalHessian &a = result.hessians[i], &b = back.hessians[i];
     ASSERT_EQ(b.h.rows(), 30);
-    EXPECT_EQ((a.h - b.h).cwiseAbs().maxCoeff(), 0.0) << i;
+    EXPECT_EQ((a.h.Dense() - b.h.Dense()).cwiseAbs().maxCoeff(), 0.0) << i;
     EXPECT_EQ(a.newton_step, b.newton_step) << i;
     EXPECT_EQ(b.local_poses.size(), 5u);
-    const Eigen::MatrixXd W = b.D.asDiagonal() * b.V;
-    EXPECT_LT((W.transpose() * W - a.h).norm(), 1e-9 * a.h.norm()) << i;
+    Eigen::MatrixXd V;
+    Eigen::VectorXd D;
+    b.Factor(&V, &D);
+    const Eigen::MatrixXd W = D.asDiagonal() * V;
+    EXPECT_LT((W.transpose() * W - a.h.Dense()).norm(), 1e-9 * a.h.Dense().norm()) << i;
   }
   // Against the triplets of the same scene (another motion set): an error naming the file.
   std::vector<LocalMotion> as_triplets = f.triplets;

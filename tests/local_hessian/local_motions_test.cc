@@ -159,7 +159,7 @@ TEST(LocalMotions, ConvergeToTheTruthAndSeeAllButTheSimilarity) {
     ASSERT_EQ(h.status, LocalHessianStatus::kOk);
     ASSERT_EQ(h.h.rows(), 36);
     EXPECT_EQ(h.newton_step.size(), 36);
-    const Eigen::MatrixXd h_points = h.h - h.prior;
+    const Eigen::MatrixXd h_points = h.h.Dense() - h.Prior();
     const Eigen::VectorXd ev = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(h_points).eigenvalues();
     // Scale-free test of the rank: 7 null directions, then a clear gap (the rank test of
     // ComputeGaugePrior sees the same in its scaled chart).

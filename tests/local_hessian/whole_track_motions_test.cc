@@ -114,7 +114,7 @@ TEST(WholeTrackMotions, SumOfLocalHessiansIsThePointBasedReducedCameraSystem) {
   const LocalMotion all = WholeBlock(rec, poses);
   const LocalHessian whole = ComputeLocalHessian(rec, all, 0, lh);
   ASSERT_EQ(whole.status, LocalHessianStatus::kOk);
-  const Eigen::MatrixXd reference = whole.h - whole.prior;
+  const Eigen::MatrixXd reference = whole.h.Dense() - whole.Prior();
 
   std::map<uint32_t, int> slot;
   for (size_t k = 0; k < all.image_ids.size(); ++k) slot[all.image_ids[k]] = static_cast<int>(k);
@@ -124,7 +124,7 @@ TEST(WholeTrackMotions, SumOfLocalHessiansIsThePointBasedReducedCameraSystem) {
     const LocalHessian h = ComputeLocalHessian(rec, motions[m], static_cast<int>(m), lh);
     ASSERT_EQ(h.status, LocalHessianStatus::kOk) << m;
     points += h.num_points;
-    const Eigen::MatrixXd hp = h.h - h.prior;
+    const Eigen::MatrixXd hp = h.h.Dense() - h.Prior();
     for (int a = 0; a < h.num_views(); ++a)
       for (int b = 0; b < h.num_views(); ++b)
         sum.block<6, 6>(6 * slot.at(h.image_ids[a]), 6 * slot.at(h.image_ids[b])) += hp.block<6, 6>(6 * a, 6 * b);
@@ -153,7 +153,7 @@ TEST(WholeTrackMotions, SumOfLocalHessiansWithIntrinsicsIsThePointBasedReducedCa
   ASSERT_EQ(whole.intrinsics0.size(), 2);
   EXPECT_DOUBLE_EQ(whole.intrinsics0(0), ro.focal_px);
   EXPECT_DOUBLE_EQ(whole.intrinsics0(1), ro.k1);
-  const Eigen::MatrixXd reference = whole.h - whole.prior;
+  const Eigen::MatrixXd reference = whole.h.Dense() - whole.Prior();
   EXPECT_GT(reference.bottomRightCorner(2, 2).diagonal().minCoeff(), 0.0);
 
   std::map<uint32_t, int> slot;
@@ -169,7 +169,7 @@ TEST(WholeTrackMotions, SumOfLocalHessiansWithIntrinsicsIsThePointBasedReducedCa
       for (int c = 0; c < 6; ++c) row.push_back(6 * slot.at(h.image_ids[a]) + c);
     row.push_back(n);
     row.push_back(n + 1);
-    const Eigen::MatrixXd hp = h.h - h.prior;
+    const Eigen::MatrixXd hp = h.h.Dense() - h.Prior();
     for (int a = 0; a < hp.rows(); ++a)
       for (int b = 0; b < hp.cols(); ++b) sum(row[a], row[b]) += hp(a, b);
   }

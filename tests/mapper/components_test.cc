@@ -196,11 +196,16 @@ TEST(PointlessMapperComponents, ImagesLeftOutJoinByAbsolutePoseAndTheModelStaysA
   for (const auto& [id, registration] : r.joining.joined) EXPECT_TRUE(r.model.images.count(id)) << id;
   const GroundTruthErrors e = CompareToGroundTruth(r.model, scene.gt);
   ASSERT_TRUE(e.ok);
-  std::printf("%zu of %zu registered, %zu by absolute pose: rotation error median %.4f max %.4f deg\n",
-              r.model.images.size(), scene.gt.images.size(), r.joining.joined.size(), e.rot_err_deg_median,
-              e.rot_err_deg_max);
-  EXPECT_LT(e.rot_err_deg_median, 0.3);
-  EXPECT_LT(e.rot_err_deg_max, 0.6);
+  std::printf("%zu of %zu registered, %zu by absolute pose: relative rotation error median %.4f max %.4f deg "
+              "(after a Sim3: median %.4f, centres' collinearity %.3f)\n",
+              r.model.images.size(), scene.gt.images.size(), r.joining.joined.size(), e.rel_rot_err_deg_median,
+              e.rel_rot_err_deg_max, e.rot_err_deg_median, e.collinearity);
+  // Gauge-free errors: the video's centres lie close to a line, so the Sim3 fitted on them
+  // leaves a rotation about that line nearly free and its per-image rotation errors carry it.
+  // The noise alone (0.5 px) gives about 0.08 deg by the median and 0.3 deg at most; an image
+  // joined at a wrong pose shows by degrees.
+  EXPECT_LT(e.rel_rot_err_deg_median, 0.1);
+  EXPECT_LT(e.rel_rot_err_deg_max, 0.4);
   size_t absolute = 0;
   for (const nlohmann::json& fate : report.json()["image_fates"]) {
     if (fate["model"].is_null()) {

@@ -4,7 +4,7 @@
 
 namespace pgba {
 
-nlohmann::json& Report::AddStage(const std::string& name, double seconds, double cpu_seconds) {
+nlohmann::json& Report::AddStage(const std::string& name, double seconds, double cpu_seconds, double peak_rss_mb) {
   nlohmann::json& stages = root_["stages"];
   if (stages.is_null()) stages = nlohmann::json::object();
   const size_t order = stages.contains(name) ? stages[name].value("order", stages.size()) : stages.size();
@@ -15,8 +15,10 @@ nlohmann::json& Report::AddStage(const std::string& name, double seconds, double
     stage["cpu_seconds"] = cpu_seconds;
     stage["load_average"] = NumberOrNull(LoadAverage1Min());
   }
-  stage["peak_rss_mb"] = PeakRssMb();
+  stage["peak_rss_mb"] = peak_rss_mb >= 0 ? peak_rss_mb : PeakRssMb();
+  stage["rss_mb"] = CurrentRssMb();
   stage["order"] = order;
+  root_["peak_rss_mb"] = ProcessPeakRssMb();
   return stage;
 }
 
@@ -24,7 +26,7 @@ void Report::Write(const std::string& path) const { WriteStringAtomically(path, 
 
 nlohmann::json& StageTimer::Stop() {
   stopped_ = true;
-  return report_->AddStage(name_, timer_.Seconds(), cpu_timer_.Seconds());
+  return report_->AddStage(name_, timer_.Seconds(), cpu_timer_.Seconds(), memory_.PeakMb());
 }
 
 }  // namespace pgba

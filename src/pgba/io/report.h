@@ -1,11 +1,13 @@
 // report.json of `init` / `reconstruct` / `run` (ARCHITECTURE.md, "Report keys"):
 //   {"stages": {NAME: {"seconds": s, "cpu_seconds": c, "load_average": l, "peak_rss_mb": m,
-//                      "order": k, ...stage extras}},
-//    "images_registered": n, "images_dropped": [names], ...}
+//                      "rss_mb": r, "order": k, ...stage extras}},
+//    "peak_rss_mb": p, "images_registered": n, "images_dropped": [names], ...}
 // A thin layer over nlohmann::json: stages record their wall time, the process' CPU time
 // over the stage (user + system of every thread: on a shared machine the wall time grows
-// with the others' load, the CPU time hardly), the 1-minute load average at its end and the
-// process' peak memory; everything else is free-form. Written atomically, so a crashed run never leaves
+// with the others' load, the CPU time hardly), the 1-minute load average at its end, the
+// stage's own peak resident memory (MiB, util/timer.h PeakRssScope) and the resident memory
+// it leaves behind; the top-level "peak_rss_mb" is the process' peak so far. Everything else
+// is free-form. Written atomically, so a crashed run never leaves
 // a truncated report behind.
 #pragma once
 
@@ -31,10 +33,12 @@ class Report {
   const nlohmann::json& json() const { return root_; }
 
   // Records stage `name` (replacing an earlier record of the same name) with its seconds,
-  // the peak RSS so far and its position in the run ("order", since JSON objects are
-  // unordered); returns the stage object for extra fields.
+  // its peak resident memory (`peak_rss_mb` < 0: the kernel's peak since its last reset), the
+  // resident memory now and its position in the run ("order", since JSON objects are
+  // unordered); returns the stage object for extra fields. Updates the process' peak.
   // `cpu_seconds` < 0: not measured (no key).
-  nlohmann::json& AddStage(const std::string& name, double seconds, double cpu_seconds = -1.0);
+  nlohmann::json& AddStage(const std::string& name, double seconds, double cpu_seconds = -1.0,
+                           double peak_rss_mb = -1.0);
 
   // Pretty-printed, atomically (InputError/runtime_error if the path is not writable).
   void Write(const std::string& path) const;
@@ -60,6 +64,7 @@ class StageTimer {
   std::string name_;
   Timer timer_;
   CpuTimer cpu_timer_;
+  PeakRssScope memory_;
   bool stopped_ = false;
 };
 

@@ -3,6 +3,7 @@
 #include <sstream>
 
 #include "pgba/io/workspace.h"
+#include "pgba/util/atomic_file.h"
 #include "pgba/util/error.h"
 
 namespace pgba {
@@ -34,14 +35,28 @@ json PoseJson(const Pose& pose) {
   return {{"q", {q.w(), q.x(), q.y(), q.z()}}, {"t", Array(pose.t())}};
 }
 
-std::string Document(const char* format, const char* key, const std::vector<json>& entries, const json& header) {
-  std::ostringstream out;
+namespace {
+
+void StreamDocument(std::ostream& out, const char* format, const char* key, size_t count,
+                    const std::function<json(size_t)>& entry, const json& header) {
   out << "{\"format\": \"" << format << "\", \"version\": " << kWorkspaceVersion;
   for (const auto& [name, value] : header.items()) out << ", " << json(name).dump() << ": " << value.dump();
   out << ", \"" << key << "\": [";
-  for (size_t k = 0; k < entries.size(); ++k) out << (k ? ",\n" : "\n") << entries[k].dump();
+  for (size_t k = 0; k < count; ++k) out << (k ? ",\n" : "\n") << entry(k).dump();
   out << "\n]}\n";
+}
+
+}  // namespace
+
+std::string Document(const char* format, const char* key, const std::vector<json>& entries, const json& header) {
+  std::ostringstream out;
+  StreamDocument(out, format, key, entries.size(), [&](size_t k) -> const json& { return entries[k]; }, header);
   return out.str();
+}
+
+void WriteDocument(const std::filesystem::path& path, const char* format, const char* key, size_t count,
+                   const std::function<json(size_t)>& entry, const json& header) {
+  WriteFileAtomically(path, [&](std::ostream& out) { StreamDocument(out, format, key, count, entry, header); });
 }
 
 }  // namespace internal_workspace

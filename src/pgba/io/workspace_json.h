@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 #include <filesystem>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -26,6 +27,12 @@ nlohmann::json PoseJson(const Pose& pose);  // {"q": [w, x, y, z], "t": [3]}
 // top-level fields (an object) written before the entries.
 std::string Document(const char* format, const char* key, const std::vector<nlohmann::json>& entries,
                      const nlohmann::json& header = nlohmann::json::object());
+// The same document written to `path` atomically, entry k made by entry(k) only when it is
+// written: one entry is in memory at a time (local_hessians.json holds (6N)^2 numbers per
+// motion, more than the motions themselves as a JSON tree and its text together).
+void WriteDocument(const std::filesystem::path& path, const char* format, const char* key, size_t count,
+                   const std::function<nlohmann::json(size_t)>& entry,
+                   const nlohmann::json& header = nlohmann::json::object());
 }  // namespace internal_workspace
 
 // A workspace artefact: format and version checked, image names resolved in the tracks model.
