@@ -292,6 +292,9 @@ RefinementResult AdjustPointless(const Reconstruction& tracks, const GlobalInitR
                                  PreparedHessians* hessians, const PointlessMapperOptions& options,
                                  const GcpInput* gcps, Report* report) {
   StageTimer timer(report, "global_ba");
+  // Counted before the adjustment, which may release the local Hessians.
+  const size_t motions = hessians->motions.size(), usable = hessians->result.num_ok();
+  const double hessian_seconds = hessians->seconds;
   RefinementResult refined =
       options.workspace.empty()
           ? RefinePointless(tracks, init.poses, *hessians, options.refinement, options.record_convergence, gcps)
@@ -305,7 +308,6 @@ RefinementResult AdjustPointless(const Reconstruction& tracks, const GlobalInitR
   stage.erase("local_hessians");
   // One line: the images and local adjustments that went in, whether it converged, how long
   // (the local adjustments' time is their own stage's).
-  const size_t motions = hessians.motions.size(), usable = hessians.result.num_ok();
   std::string stop = stage.value("stop_reason", "");
   const bool wide = stop.rfind("wide_threshold_", 0) == 0;
   if (wide) stop.erase(0, std::string("wide_threshold_").size());
@@ -321,7 +323,7 @@ RefinementResult AdjustPointless(const Reconstruction& tracks, const GlobalInitR
                         : "not converged (" + why + (wide ? " at the start's wider outlier threshold" : "") +
                               ") after ")
                 << refined.iterations << " iterations, " << FormatNumber("%.1f", stage["seconds"].get<double>())
-                << " s (local adjustments " << FormatNumber("%.1f", hessians.seconds) << " s)";
+                << " s (local adjustments " << FormatNumber("%.1f", hessian_seconds) << " s)";
   if (!refined.cameras.empty()) {
     (*report)["intrinsics"] = refined.intrinsics;
     // One line per camera, each parameter by name: pixels (f, cx, cy) to 0.01 px, the
