@@ -111,7 +111,8 @@ void RegisterRun(CLI::App& app) {
       page.view_graph = &view_graph;
       WriteStringAtomically((out / "report.html").string(), RunReportHtml(page));
       report.Write((out / "report.json").string());
-      metrics.PrintTable(std::cout);
+      // Of several models the table is the largest's; the others' lines follow the summary.
+      metrics.PrintTable(std::cout, models.size() == 1 ? "evaluation" : "evaluation of the largest model");
       std::cout << "pgba run: " << evaluation.images_registered << " of " << result.tracks.images.size()
                 << " images registered"
                 << (models.size() == 1 ? ", " : " in " + std::to_string(models.size()) + " models, ")

@@ -3,7 +3,8 @@
 set -euo pipefail
 PKGS=(build-essential cmake ninja-build pkg-config
       libeigen3-dev libceres-dev libsuitesparse-dev libopengv-dev libopencv-dev
-      nlohmann-json3-dev libcli11-dev libtbb-dev libsqlite3-dev libexif-dev libgtest-dev)
+      nlohmann-json3-dev libcli11-dev libtbb-dev libsqlite3-dev libexif-dev libgtest-dev
+      chromium)  # chromium: the test that renders report.html headless (tests/apps/report_html_browser_test.cc)
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -191,6 +191,27 @@ void StagesTable(std::ostringstream& h, const nlohmann::json& r) {
   h << "</table>\n";
 }
 
+// Why the passes ended (GlobalBASummary::stop_reason), in words with the config key that sets it.
+std::string StopReasonText(const std::string& reason) {
+  if (reason == "cost_tolerance")
+    return "the last pass lowered the reprojection cost by less than global_ba.relinearize_cost_tolerance";
+  if (reason == "step_tolerance")
+    return "the last pass moved the local models by less than global_ba.relinearize_tolerance noise sigmas";
+  if (reason == "refused_step") return "a further pass raised the reprojection cost; the last kept pass is the result";
+  if (reason == "max_relinearizations") return "global_ba.max_relinearizations passes reached";
+  if (reason == "misfit_below_threshold") return "the local models agreed with each other: one pass was enough";
+  if (reason == "no_relinearization") return "one pass (global_ba.max_relinearizations is 0)";
+  return reason;
+}
+
+// A column of the passes' table (GlobalBASummary::Pass in report.json) in words.
+std::string PassColumnName(const std::string& key) {
+  if (key == "robust_cost") return "reprojection cost (robust, px²)";
+  if (key == "outlier_px") return "outlier threshold (px)";
+  if (key == "displacement_sigmas") return "largest move of a local model (noise sigmas)";
+  return key;
+}
+
 // The pointless global BA's passes (stages.global_ba.passes: one record per pass, its cost
 // first) and whether it converged, where the run recorded them.
 void GlobalBaPasses(std::ostringstream& h, const nlohmann::json& r) {
@@ -199,14 +220,16 @@ void GlobalBaPasses(std::ostringstream& h, const nlohmann::json& r) {
   const nlohmann::json passes = ba.value("passes", nlohmann::json::array());
   if (!ba.contains("converged") && (!passes.is_array() || passes.empty())) return;
   h << "<h2>Global bundle adjustment</h2>\n";
-  if (ba.contains("converged") && ba["converged"].is_boolean())
+  if (ba.contains("converged") && ba["converged"].is_boolean()) {
+    const std::string stop = ba.value("stop_reason", "");
     h << "<p>" << (ba["converged"].get<bool>()
-                       ? "Converged" + (ba.contains("stop_reason") && ba["stop_reason"].is_string()
-                                            ? " (" + XmlEscape(ba["stop_reason"].get<std::string>()) + ")."
-                                            : std::string("."))
-                       : "<b>Did not converge</b>: the poses are usable but not final; a run with more iterations "
-                         "(global_ba section of the config) may still improve them.")
+                       ? "Converged" + (stop.empty() ? std::string(".") : ": " + XmlEscape(StopReasonText(stop)) + ".")
+                       : "<b>Did not converge</b>" +
+                             (stop.empty() ? std::string() : " (" + XmlEscape(StopReasonText(stop)) + ")") +
+                             ": the poses are usable but not final; a run with more iterations "
+                             "(global_ba section of the config) may still improve them.")
       << "</p>\n";
+  }
   if (!passes.is_array() || passes.empty()) return;
   std::vector<std::string> keys;  // every numeric key of any pass, "cost" first
   for (const auto& pass : passes)
@@ -215,8 +238,10 @@ void GlobalBaPasses(std::ostringstream& h, const nlohmann::json& r) {
         if ((value.is_number() || value.is_boolean()) && std::find(keys.begin(), keys.end(), key) == keys.end())
           keys.push_back(key);
   std::stable_partition(keys.begin(), keys.end(), [](const std::string& k) { return k.find("cost") != std::string::npos; });
+  h << "<p>Each pass takes the local bundle adjustments' Hessians again where the previous one left the poses "
+       "and solves again; a pass is kept when it lowers the reprojection cost.</p>\n";
   h << "<table><tr><th>pass</th>";
-  for (const std::string& k : keys) h << "<th>" << XmlEscape(k) << "</th>";
+  for (const std::string& k : keys) h << "<th>" << XmlEscape(PassColumnName(k)) << "</th>";
   h << "</tr>\n";
   for (size_t i = 0; i < passes.size(); ++i) {
     h << "<tr><td>" << i + 1 << "</td>";
@@ -348,11 +373,13 @@ std::string RunReportHtml(const HtmlReportInput& in) {
   if (in.convergence && !in.convergence->empty()) {
     const std::string note = ConvergenceSampleNote(in);
     Row(h, "sigma initial poses (px" + note + ")", FormatNumber("%.4f", in.convergence->front()));
-    Row(h, "sigma final (px" + note + ")", FormatNumber("%.4f", in.convergence->back()));
-    // The sample's sigma is the curve's scale, not the result's: say the exact one beside it.
-    if (!note.empty() && in.metrics && in.metrics->sigma.Computable())
-      Row(h, "sigma final (px, every track)", FormatNumber("%.4f", in.metrics->sigma.rms));
   }
+  // The result's sigma, the console's evaluation's: the curve's last point is a sample's, or
+  // with the cameras the adjustment began with when it self-calibrated.
+  if (in.metrics && in.metrics->sigma.Computable())
+    Row(h, "sigma final (px)", FormatNumber("%.4f", in.metrics->sigma.rms));
+  else if (in.convergence && !in.convergence->empty())
+    Row(h, "sigma final (px" + ConvergenceSampleNote(in) + ")", FormatNumber("%.4f", in.convergence->back()));
   if (in.metrics) {
     if (in.metrics->sigma.Computable()) {
       Row(h, "sigma median (px)", FormatNumber("%.4f", in.metrics->sigma.median));

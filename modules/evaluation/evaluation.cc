@@ -75,11 +75,12 @@ void Row(std::ostream& out, const std::string& name, const std::string& value) {
 
 }  // namespace
 
-void EvaluationMetrics::PrintTable(std::ostream& out) const {
+void EvaluationMetrics::PrintTable(std::ostream& out, const std::string& title) const {
   const std::string na = "n/a";
-  out << "evaluation\n";
+  out << title << "\n";
   Row(out, "images registered", std::to_string(images_registered) + " / " + std::to_string(images_input));
-  Row(out, "tracks triangulated", std::to_string(sigma.num_triangulated) + " / " + std::to_string(sigma.num_tracks));
+  Row(out, "tracks triangulated", std::to_string(sigma.num_triangulated) + " of " + std::to_string(sigma.num_tracks) +
+                                        " seen in 2 or more registered images");
   Row(out, "sigma rms (px)", sigma.Computable() ? FormatNumber("%.4f", sigma.rms) : na);
   Row(out, "sigma median (px)", sigma.num_triangulated > 0 ? FormatNumber("%.4f", sigma.median) : na);
   Row(out, "inlier fraction", sigma.num_observations > 0 ? FormatNumber("%.4f", sigma.inlier_fraction) : na);

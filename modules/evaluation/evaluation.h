@@ -39,8 +39,8 @@ struct EvaluationMetrics {
   // center_err_rel_median, center_err_rel_max, loop_err_rms, loop_err_median); a key is
   // absent when its metric is not computable. Supporting counts go under "details".
   nlohmann::json ToJson() const;
-  // Human-readable table (one metric per row, "n/a" where not computable).
-  void PrintTable(std::ostream& out) const;
+  // Human-readable table under `title` (one metric per row, "n/a" where not computable).
+  void PrintTable(std::ostream& out, const std::string& title = "evaluation") const;
 };
 
 // `model`: the evaluated poses (and intrinsics); `obs`: the observations and tracks (e.g.

@@ -27,6 +27,7 @@
 #include <nlohmann/json.hpp>
 
 #include "pgba/geometry/pose.h"
+#include "pgba/geometry/triangulation.h"
 #include "pgba/scene/reconstruction.h"
 
 namespace pgba {
@@ -36,8 +37,9 @@ struct SigmaOptions {
   double inlier_px = 4.0;
   // Huber threshold of the triangulation's Gauss-Newton refinement (pixels).
   double huber_px = 1.0;
-  // Gauss-Newton iterations per track.
-  int max_iterations = 10;
+  // Gauss-Newton iterations per track: TriangulateModel's, so that the tracks triangulated
+  // here are the points of the model the mapper writes (one count in the console and report).
+  int max_iterations = TriangulationOptions{}.max_iterations;
   // Empty when valid, else one line naming the first field out of its valid range (the
   // ranges of io/option_ranges.cc) or breaking a rule between fields.
   std::string Check() const;

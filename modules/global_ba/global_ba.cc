@@ -231,7 +231,7 @@ GlobalBAResult internal::RunGlobalBA(const std::map<uint32_t, Pose>& initial_pos
     summary.num_motions_downweighted += t.irls_weight < 0.5;
   }
   summary.seconds = timer.Seconds();
-  PGBA_LOG_INFO << "global BA (" << (options.weighting == TripletWeighting::kHessian ? "pointless" : "averaging")
+  PGBA_LOG_DEBUG << "global BA (" << (options.weighting == TripletWeighting::kHessian ? "pointless" : "averaging")
                 << "): " << summary.num_poses << " poses, " << summary.num_motions << " motions, "
                 << summary.iterations << " iterations in " << summary.rounds << " rounds, " << summary.seconds
                 << " s, fitting scale " << summary.robust_scale << ", " << summary.num_motions_downweighted

@@ -20,6 +20,7 @@
 #include "pgba/optim/pose_parameterization.h"
 #include "pgba/util/error.h"
 #include "pgba/util/logging.h"
+#include "pgba/util/text_format.h"
 #include "pgba/util/timer.h"
 #include "pgba/util/upper_median.h"
 
@@ -107,7 +108,7 @@ GlobalBAResult SolveAgain(const std::map<uint32_t, Pose>& poses, const Models& m
     try {
       result = solve();
     } catch (const InputError& e) {
-      PGBA_LOG_INFO << "global BA: " << e.what() << " from the carried trust region radius "
+      PGBA_LOG_DEBUG << "global BA: " << e.what() << " from the carried trust region radius "
                     << options.solver.initial_trust_region_radius << "; solved again from "
                     << given.solver.initial_trust_region_radius;
       options.solver.initial_trust_region_radius = given.solver.initial_trust_region_radius;
@@ -210,8 +211,16 @@ GlobalBAResult CheckedRelinearization(const Reconstruction& tracks, const LocalH
     }
     trial = SolveAgain(kept.poses, models, checked, callback, gcps, &total);
   }
-  if (total.relinearizations == 0 && total.stop_reason == "refused_step")
-    PGBA_LOG_WARN << "global BA: the first step raised the reprojection cost; the initial poses are kept";
+  // A first step refused within the cost tolerance leaves poses already at the minimum (one
+  // motion over every image is the point-based BA itself); beyond it the start stays unadjusted.
+  if (total.relinearizations == 0 && total.stop_reason == "refused_step" && total.converged)
+    PGBA_LOG_DEBUG << "global BA: the initial poses are its minimum already (the first step changed the cost by "
+                   << FormatNumber("%+.2g", 100.0 * (total.passes.back().robust_cost - cost) / cost) << "%)";
+  else if (total.relinearizations == 0 && total.stop_reason == "refused_step")
+    PGBA_LOG_WARN << "global BA: its first step raised the reprojection error (robust cost +"
+                  << FormatNumber("%.0f", 100.0 * (total.passes.back().robust_cost - cost) / cost) << "%): the "
+                  << kept.poses.size() << " images keep the poses it started from; the verification after the "
+                  << "adjustment checks them against their observations";
   total.final_cost = kept.summary.final_cost;
   total.robust_scale = kept.summary.robust_scale;
   total.num_motions_downweighted = kept.summary.num_motions_downweighted;
@@ -329,7 +338,7 @@ GlobalBAResult GraduatedRelinearization(const Reconstruction& tracks, const Loca
     r.summary.start_median_px = median;
     return r;
   }
-  PGBA_LOG_INFO << "global BA: the start is far from the solution (median reprojection error " << median
+  PGBA_LOG_DEBUG << "global BA: the start is far from the solution (median reprojection error " << median
                 << " px): first converged with observations up to " << wide_px << " px, then up to "
                 << lh_options.max_reprojection_px << " px";
   const FreeIntrinsics free = FreeIntrinsicsOf(hessians);

@@ -82,7 +82,7 @@ std::vector<int> Models::RetakeAt(const Reconstruction& tracks, const LocalHessi
     if (counts[s] > 0)
       rejected += std::string(" ") + LocalHessianStatusName(static_cast<LocalHessianStatus>(s)) + "=" +
                   std::to_string(counts[s]);
-  PGBA_LOG_INFO << "local hessians: " << counts[0] << " of " << num_tried << " motions ok"
+  PGBA_LOG_DEBUG << "local hessians: " << counts[0] << " of " << num_tried << " motions ok"
                 << (rejected.empty() ? "" : "; rejected:" + rejected);
   return index;
 }

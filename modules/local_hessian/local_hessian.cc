@@ -184,7 +184,7 @@ LocalHessianResult ComputeLocalHessians(const Reconstruction& tracks, const std:
     if (result.status_counts[s] > 0)
       rejected += std::string(" ") + LocalHessianStatusName(static_cast<LocalHessianStatus>(s)) + "=" +
                   std::to_string(result.status_counts[s]);
-  PGBA_LOG_INFO << "local hessians: " << result.num_ok() << " of " << motions.size() << " motions ok"
+  PGBA_LOG_DEBUG << "local hessians: " << result.num_ok() << " of " << motions.size() << " motions ok"
                 << (rejected.empty() ? "" : "; rejected:" + rejected);
   return result;
 }

@@ -123,7 +123,7 @@ std::vector<LocalMotion> BuildLocalMotions(const Reconstruction& tracks, const s
     size_t largest = 0, views = 0;
     for (const LocalMotion& m : motions) largest = std::max<size_t>(largest, m.image_ids.size());
     for (const LocalMotion& m : motions) views += m.image_ids.size();
-    PGBA_LOG_INFO << "local motions: " << motions.size() << " motions over " << poses.size() << " images ("
+    PGBA_LOG_DEBUG << "local motions: " << motions.size() << " motions over " << poses.size() << " images ("
                   << (motions.empty() ? 0.0 : static_cast<double>(views) / motions.size()) << " views on average, "
                   << largest << " at most)";
   }

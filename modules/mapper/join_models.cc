@@ -45,9 +45,12 @@ std::vector<GlobalInitResult> JoinModels(const Reconstruction& tracks, const std
   stage["models"] = nlohmann::json::array();
   for (const GlobalInitResult& m : models) stage["models"].push_back(m.poses.size());
   for (const auto& [id, reason] : joining->not_joined)
-    PGBA_LOG_WARN << "image " << tracks.images.at(id).name << " in no model: " << reason;
-  PGBA_LOG_INFO << "models: " << models.size() << ", " << joining->joined.size()
-                << " images joined by absolute pose, " << joining->merges.size() << " merges";
+    PGBA_LOG_DEBUG << "image " << tracks.images.at(id).name << " in no model: " << reason;  // listed at the end
+  const bool changed = models.size() > 1 || !joining->joined.empty() || !joining->merges.empty();
+  internal::LogLine(changed ? LogLevel::kInfo : LogLevel::kDebug)
+      << "models: " << models.size() << " after joining (" << joining->joined.size()
+      << " images added by absolute pose against a model's points, " << joining->merges.size()
+      << " merges of models sharing points or verified pairs)";
   if (ImageSets(models) == before) return {};
   return models;
 }

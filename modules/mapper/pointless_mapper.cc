@@ -227,6 +227,9 @@ RefinementResult AdjustPointless(const Reconstruction& tracks, const GlobalInitR
                                  PreparedHessians* hessians, const PointlessMapperOptions& options,
                                  const GcpInput* gcps, Report* report) {
   StageTimer timer(report, "global_ba");
+  // Counted before the adjustment, which may release the local Hessians.
+  const size_t motions = hessians->motions.size(), usable = hessians->result.num_ok();
+  const double hessian_seconds = hessians->seconds;
   RefinementResult refined =
       options.workspace.empty()
           ? RefinePointless(tracks, init.poses, *hessians, options.refinement, options.record_convergence, gcps)
@@ -238,6 +241,24 @@ RefinementResult AdjustPointless(const Reconstruction& tracks, const GlobalInitR
   stage["adjust_seconds"] = refined.adjust_seconds;
   stage.update(refined.details);
   stage.erase("local_hessians");
+  // One line: the images and local adjustments that went in, whether it converged, how long
+  // (the local adjustments' time is their own stage's).
+  std::string stop = stage.value("stop_reason", "");
+  const bool wide = stop.rfind("wide_threshold_", 0) == 0;
+  if (wide) stop.erase(0, std::string("wide_threshold_").size());
+  const std::string why = stop == "max_relinearizations" ? "global_ba.max_relinearizations passes reached"
+                          : stop == "refused_step"       ? "a step raised the reprojection error"
+                                                         : stop;
+  PGBA_LOG_INFO << "global BA (pointless): " << refined.poses.size() << " images, on "
+                << (usable < motions ? std::to_string(usable) + " of " : "") << motions << " local bundle "
+                << (motions == 1 ? "adjustment" : "adjustments") << ", "
+                << (stage.value("converged", false) ? "converged in "
+                    : stop == "no_relinearization"
+                        ? "one pass (global_ba.max_relinearizations 0) in "
+                        : "not converged (" + why + (wide ? " at the start's wider outlier threshold" : "") +
+                              ") after ")
+                << refined.iterations << " iterations, " << FormatNumber("%.1f", stage["seconds"].get<double>())
+                << " s (local adjustments " << FormatNumber("%.1f", hessian_seconds) << " s)";
   if (!refined.cameras.empty()) {
     (*report)["intrinsics"] = refined.intrinsics;
     // One line per camera, each parameter by name: pixels (f, cx, cy) to 0.01 px, the
@@ -331,8 +352,11 @@ void Readjust(const Reconstruction& tracks, const std::vector<TwoViewGeometry>& 
     *refined = std::move(adjusted);
     *verification = std::move(second);
   } catch (const InputError& e) {
-    PGBA_LOG_WARN << "the adjustment again without the images the verification dropped failed, the first one is kept: "
-                  << e.what();
+    // With no image left there is nothing to keep: the command's closing list names them all.
+    internal::LogLine(refined->poses.empty() ? LogLevel::kDebug : LogLevel::kWarning)
+        << (refined->poses.empty() ? "" : "warning: ")
+        << "the adjustment again without the images the verification dropped failed, the first one is kept: "
+        << e.what();
     if (write_workspace) ForgetWorkspaceHessians(options);
     (*report)["stages"] = stages;
     (*report)["stages"]["verification"]["readjustment_failed"] = e.what();
@@ -433,6 +457,8 @@ void AdjustModels(const Reconstruction& tracks, const std::vector<TwoViewGeometr
   std::vector<ComponentModel> adjusted;
   for (ComponentModel& m : r->more_models) {
     nlohmann::json record;
+    PGBA_LOG_INFO << "another model: " << m.init.poses.size()
+                  << " images that share no image pair with the largest, adjusted on their own";
     try {
       AdjustModel(tracks, pairs, options, &m, &record);
       adjusted.push_back(std::move(m));

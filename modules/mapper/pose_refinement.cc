@@ -47,7 +47,7 @@ void MeasureTripletStart(const Reconstruction& tracks, const std::map<uint32_t, 
                          PreparedHessians* hessians) {
   hessians->triplet_rotation_misfit = TripletRotationMisfit(tracks, initial, triplets);
   const bool far = hessians->triplet_rotation_misfit > options.triplet_start_misfit;
-  PGBA_LOG_INFO << "local motions: initial poses " << hessians->triplet_rotation_misfit
+  PGBA_LOG_DEBUG << "local motions: initial poses " << hessians->triplet_rotation_misfit
                 << " triplet residuals off their triplets' rotations"
                 << (far ? ": linearised at the triplets' pointless BA instead" : "");
   if (far)
@@ -66,7 +66,7 @@ PreparedHessians PrepareLocalHessians(const Reconstruction& tracks, const std::m
     // far from the local optima of long motions (local_motions.h). Images that BA leaves out
     // keep their initial pose, so that the motions are chosen over the same images as from
     // a workspace's initial poses (ChooseLocalMotions).
-    PGBA_LOG_INFO << "local motions: the triplets' pointless BA gives the motions their starting poses";
+    PGBA_LOG_DEBUG << "local motions: the triplets' pointless BA gives the motions their starting poses";
     LocalHessianResult triplet_hessians = ComputeLocalHessians(tracks, triplets, options.local_hessian);
     const GlobalBAResult refined = RelinearizedGlobalBA(tracks, options.local_hessian, initial, triplets,
                                                         std::move(triplet_hessians.hessians), options.global_ba);
@@ -111,7 +111,7 @@ void CheckRefinedCameras(const RefinementResult& r) {
 }
 
 void LogRefinement(const char* method, const RefinementResult& r) {
-  PGBA_LOG_INFO << method << ": " << r.poses.size() << " poses, " << r.num_params << " unknowns, " << r.iterations
+  PGBA_LOG_DEBUG << method << ": " << r.poses.size() << " poses, " << r.num_params << " unknowns, " << r.iterations
                 << " iterations, adjustment " << r.adjust_seconds << " s (preparation " << r.prepare_seconds << " s)";
 }
 

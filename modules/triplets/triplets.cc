@@ -326,8 +326,8 @@ std::vector<LocalMotion> BuildTriplets(const Reconstruction& tracks, const std::
                 << " s";
   if (stats.triplet_graph_components > 1)
     PGBA_LOG_WARN << "triplets: they form " << stats.triplet_graph_components
-                  << " groups that share no image pair; only the largest is reconstructed (more overlap between the "
-                     "groups' photos joins them)";
+                  << " groups that share no image pair; each is a model of its own, in its own frame and scale, "
+                     "unless their points join them later (more overlap between the groups' photos joins them)";
   // Triplets still pending when the rounds ran out are left out: harmless while every image is
   // in a kept triplet (the others only add redundancy), a lost image otherwise.
   if (stats.selected_unestimated > 0) {

@@ -6,11 +6,13 @@
 //     the console, in report.json and in report.html's summary and view graph;
 //   - the tracks of the last matching in the console, report.json, tracks/ and report.html;
 //   - the points of the console = the triangulation stage's = the evaluation's tracks
-//     triangulated = the points of sparse/points3D.txt and of points.ply = report.html's;
+//     triangulated (report.json and the console's table) = the points of sparse/points3D.txt
+//     and of points.ply = report.html's;
 //   - the stages' seconds add up to the run's time, in the order they ran (the first pass one
 //     stage before the second matching, holding its own stages);
 //   - the camera parameters start from the prior of cameras.txt, by name, in the console and
-//     report.html.
+//     report.html;
+//   - the console at the default verbosity: one line for the global BA, no solver internals.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -123,6 +125,10 @@ TEST(ReportIdentitiesCli, EveryCountAgreesWithTheOthersAndWithTheFiles) {
             std::string::npos);
   EXPECT_EQ(stages["triangulation"]["points"], points);
   EXPECT_EQ(r["evaluation"]["details"]["tracks_triangulated"], points);
+  const std::smatch evaluated = LastMatch(console, std::regex(R"(tracks triangulated +(\d+) of (\d+) seen in 2 or more)"));
+  ASSERT_FALSE(evaluated.empty()) << console;
+  EXPECT_EQ(std::stol(evaluated[1]), points);
+  EXPECT_EQ(std::stol(evaluated[2]), tracks);  // every image registered: every track is seen twice
   EXPECT_EQ(DataLines(out / "sparse" / "points3D.txt"), points);
   const PlyHeader ply = ReadPlyHeader(out / "points.ply");  // the points, then one vertex per camera
   EXPECT_EQ(ply.points, points);
@@ -173,6 +179,16 @@ TEST(ReportIdentitiesCli, EveryCountAgreesWithTheOthersAndWithTheFiles) {
   for (const char* name : {"cx", "cy", "k"}) EXPECT_NE(html.find(std::string("<td>") + name + "</td>"), std::string::npos);
   EXPECT_TRUE(std::regex_search(console, std::regex(R"(camera 1 \(SIMPLE_RADIAL\) self-calibrated: f [0-9.]+ -> )")))
       << console;
+
+  // The global BA in one line per pass, what went in and what came out; the solver's internals
+  // (its fitting scale, misfit, unknowns, each re-linearisation's local Hessians) and the
+  // progress bars' last states, which repeat the stages' own lines, only at -v 2.
+  EXPECT_TRUE(std::regex_search(
+      console, std::regex(R"(global BA \(pointless\): 12 images, on \d+ local bundle adjustments?, converged in \d+ )"
+                          R"(iterations, [0-9.]+ s \(local adjustments [0-9.]+ s\))")))
+      << console;
+  for (const char* internal : {"fitting scale", "misfit", "unknowns", "motions ok", "triplet residuals", "[#"})
+    EXPECT_EQ(console.find(internal), std::string::npos) << internal;
   fs::remove_all(dir);
 }
 

@@ -4,12 +4,16 @@
 #include <gtest/gtest.h>
 #include <tbb/parallel_for.h>
 
+#include "pgba/util/logging.h"
 #include "pgba/util/timer.h"
 
 namespace pgba {
 namespace {
 
-TEST(ProgressBar, ParallelIncrementsAndOvercount) {
+// Bars that are run and over-counted, and what they print off a terminal at `verbosity`.
+std::string BarsPrinted(int verbosity) {
+  const int before = LogVerbosity();
+  SetLogVerbosity(verbosity);
   testing::internal::CaptureStderr();
   {
     ProgressBar bar("parallel", 1000);
@@ -20,7 +24,15 @@ TEST(ProgressBar, ParallelIncrementsAndOvercount) {
   }
   { ProgressBar empty("empty", 0); }
   const std::string err = testing::internal::GetCapturedStderr();
-  // Not a terminal: one summary line per bar (at the default verbosity).
+  SetLogVerbosity(before);
+  return err;
+}
+
+TEST(ProgressBar, ParallelIncrementsAndOvercount) {
+  // Not a terminal: at the default verbosity nothing (each stage prints its own summary line),
+  // at -v 2 one line per bar with its last state.
+  EXPECT_EQ(BarsPrinted(1), "");
+  const std::string err = BarsPrinted(2);
   EXPECT_NE(err.find("parallel"), std::string::npos);
   EXPECT_NE(err.find("1500/1000"), std::string::npos) << err;
   EXPECT_NE(err.find("0/0"), std::string::npos) << err;

@@ -44,9 +44,13 @@ void ProgressBar::Draw(size_t done, bool final) {
   std::snprintf(line, sizeof(line), "%-22s [%s%s] %zu/%zu %5.1fs%s", label_.c_str(),
                 std::string(filled, '#').c_str(), std::string(width - filled, '.').c_str(), done,
                 total_, t, final ? "" : (" ETA " + std::to_string(static_cast<int>(eta)) + "s").c_str());
-  if (tty_) {
-    std::fprintf(stderr, "\r%s\033[K%s", line, final ? "\n" : "");
-  } else if (final && LogVerbosity() >= 1) {
+  // Every stage with a bar prints its own summary line when it ends: the finished bar is
+  // erased from a terminal, and a log gets its last state at -v 2 only.
+  if (tty_ && final) {
+    std::fprintf(stderr, "\r\033[K");
+  } else if (tty_) {
+    std::fprintf(stderr, "\r%s\033[K", line);
+  } else if (final && LogVerbosity() >= 2) {
     std::fprintf(stderr, "%s\n", line);
   }
 }

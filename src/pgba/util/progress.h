@@ -1,6 +1,7 @@
 // A thread-safe progress bar with ETA on stderr, for stages longer than a few seconds.
-// It redraws at most every 0.2 s and only when stderr is a terminal (CI logs get one
-// summary line at the end instead of thousands of carriage returns).
+// It redraws at most every 0.2 s and only when stderr is a terminal, and is erased when it
+// finishes (the stage's own summary line follows); a log that is no terminal gets the bar's
+// last state at -v 2 only, instead of thousands of carriage returns.
 #pragma once
 
 #include <atomic>
