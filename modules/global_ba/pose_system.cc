@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <utility>
 
+#include "pgba/util/logging.h"
+#include "pgba/util/timer.h"
+
 namespace pgba {
 namespace internal {
 
@@ -91,6 +94,9 @@ PoseSystem::PoseSystem(const MotionBlockProblem& p) {
       }
   }
   solver_.analyzePattern(matrix_);
+  PGBA_LOG_DEBUG << "pose system: " << num_free_ << " unknowns, " << pairs_.size() << " pose-pair blocks, "
+                 << matrix_.nonZeros() << " nonzeros; its Cholesky factor " << solver_.cholmod().lnz
+                 << " nonzeros; resident " << CurrentRssMb() << " MB";
 }
 
 void PoseSystem::Load(const std::vector<double>& values) {
@@ -115,6 +121,12 @@ bool PoseSystem::Factorize(const Eigen::VectorXd& diagonal) {
   }
   for (int i = 0; i < num_free_; ++i) values[Index(i, i)] += diagonal(i);
   solver_.factorize(matrix_);
+  if (!factorised_) {
+    factorised_ = true;
+    PGBA_LOG_DEBUG << "pose system factorised: the factor holds " << solver_.cholmod().memory_inuse / 1048576.0
+                   << " MB (" << solver_.cholmod().memory_usage / 1048576.0 << " MB at most while factorising); resident "
+                   << CurrentRssMb() << " MB";
+  }
   return solver_.info() == Eigen::Success;
 }
 

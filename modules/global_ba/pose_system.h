@@ -90,6 +90,7 @@ class PoseSystem {
   // block (12,000 unknowns, a 6 x 6 block per pair of images sharing a motion of ~15 views)
   // fills in heavily, where Eigen's simplicial LDL^T took ~4 s per factorisation.
   Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver_;
+  bool factorised_ = false;  // once: its size in the log
 };
 
 }  // namespace internal
