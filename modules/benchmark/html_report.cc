@@ -158,7 +158,10 @@ std::string StageDescription(const std::string& name) {
   // A stage done again keeps its first round under a suffix saying why.
   for (const auto& [suffix, why] : {std::pair<std::string, std::string>{"_before_readjustment",
                                                                         "done again without the images the verification dropped"},
-                                    {"_before_joining", "done again with the images joined by absolute pose"}})
+                                    {"_before_joining", "done again with the images joined by absolute pose"},
+                                    {"_before_triplet_start",
+                                     "its first step raised the reprojection error: done again from the image "
+                                     "triplets' own adjustment"}})
     if (name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0) {
       const std::string first = StageDescription(name.substr(0, name.size() - suffix.size()));
       return first.empty() ? "first round, " + why : first + " (first round, " + why + ")";

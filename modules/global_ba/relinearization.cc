@@ -216,8 +216,8 @@ GlobalBAResult CheckedRelinearization(const Reconstruction& tracks, const LocalH
   if (total.relinearizations == 0 && total.stop_reason == "refused_step" && total.converged)
     PGBA_LOG_DEBUG << "global BA: the initial poses are its minimum already (the first step changed the cost by "
                    << FormatNumber("%+.2g", 100.0 * (total.passes.back().robust_cost - cost) / cost) << "%)";
-  else if (total.relinearizations == 0 && total.stop_reason == "refused_step")
-    PGBA_LOG_WARN << "global BA: its first step raised the reprojection error (robust cost +"
+  else if (total.relinearizations == 0 && total.stop_reason == "refused_step")  // the mapper says what follows
+    PGBA_LOG_DEBUG << "global BA: its first step raised the reprojection error (robust cost +"
                   << FormatNumber("%.0f", 100.0 * (total.passes.back().robust_cost - cost) / cost) << "%): the "
                   << kept.poses.size() << " images keep the poses it started from; the verification after the "
                   << "adjustment checks them against their observations";

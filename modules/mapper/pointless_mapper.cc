@@ -1,6 +1,7 @@
 #include "mapper/pointless_mapper.h"
 
 #include <algorithm>
+#include <limits>
 #include <map>
 #include <cstdio>
 #include <filesystem>
@@ -318,6 +319,39 @@ void VerifyImages(const Reconstruction& tracks, const std::vector<TwoViewGeometr
   }
 }
 
+// Step 7, continued: a pointless BA whose first step raised the reprojection cost kept its
+// start, where the motions' quadratic models do not reach the optimum (a start too far from its
+// triplets' relative rotations, linearization_start.h). The motions are then taken again where
+// the triplets' pointless BA puts the poses (step 5 from there) and the BA solved again; the
+// first round is kept in the report under "_before_triplet_start". Nothing is done when that
+// start was taken already or local_motions.triplet_start_misfit turns it off.
+void AdjustFromTheTripletsIfStuck(const Reconstruction& tracks, const GlobalInitResult& init,
+                                  const PointlessMapperOptions& options, const GcpInput* gcps, Report* report,
+                                  PreparedHessians* hessians, RefinementResult* refined, bool write_workspace) {
+  const std::string stop = refined->details.value("stop_reason", "");
+  // (Refused within the cost tolerance: the start is the minimum already.)
+  const bool refused_first = stop.size() >= 12 && stop.compare(stop.size() - 12, 12, "refused_step") == 0 &&
+                             refined->details.value("relinearizations", 0) == 0 &&
+                             !refined->details.value("converged", false);
+  if (!refused_first) return;
+  const LocalMotionOptions& motions = options.refinement.local_motions;
+  if (hessians->triplet_start() || motions.kind != MotionKind::kWholeTracks || !(motions.triplet_start_misfit > 0)) {
+    PGBA_LOG_WARN << "global BA: its first step raised the reprojection error: the " << refined->poses.size()
+                  << " images keep the poses it started from; the verification checks them against their "
+                     "observations";
+    return;
+  }
+  PGBA_LOG_INFO << "global BA: its first step raised the reprojection error; the local motions are taken again "
+                   "where the image triplets' own adjustment puts the poses";
+  RenameStages(report, {"local_hessians", "local_hessians_output", "global_ba"}, "_before_triplet_start");
+  PointlessMapperOptions from_triplets = options;
+  from_triplets.refinement.local_motions.triplet_start_misfit = std::numeric_limits<double>::min();  // any misfit
+  PreparedHessians again = ComputeMotionHessians(tracks, init, from_triplets.refinement, report);
+  if (write_workspace) WriteHessiansToWorkspace(tracks, options, again, report);
+  *refined = AdjustPointless(tracks, init, &again, from_triplets, gcps, report);
+  *hessians = std::move(again);
+}
+
 // Whether the verification dropped an image or registered one again: the observations of
 // such an image bent the adjustment of the others, which is then done again without them.
 bool VerificationChanged(const ImageVerificationResult& v) { return v.num_dropped + v.num_reregistered > 0; }
@@ -330,7 +364,7 @@ void Readjust(const Reconstruction& tracks, const std::vector<TwoViewGeometry>& 
               const PointlessMapperOptions& options, const GcpInput* gcps, Report* report, GlobalInitResult* init,
               PreparedHessians* hessians, RefinementResult* refined, ImageVerificationResult* verification,
               bool write_workspace) {
-  if (!VerificationChanged(*verification)) return;
+  if (!VerificationChanged(*verification) || refined->poses.empty()) return;
   PGBA_LOG_INFO << "adjusting again from the verified poses"
                 << (verification->num_dropped ? ", without the " + std::to_string(verification->num_dropped) +
                                                     (verification->num_dropped == 1 ? " image" : " images") + " dropped"
@@ -417,6 +451,8 @@ void AdjustModel(const Reconstruction& tracks, const std::vector<TwoViewGeometry
   Report scratch;
   m->hessians = ComputeMotionHessians(tracks, m->init, options.refinement, &scratch);
   m->refined = AdjustPointless(tracks, m->init, &m->hessians, options, nullptr, &scratch);
+  AdjustFromTheTripletsIfStuck(tracks, m->init, options, nullptr, &scratch, &m->hessians, &m->refined,
+                               /*write_workspace=*/false);
   m->refined.history.clear();
   VerifyImages(tracks, pairs, options.verification, &scratch, &m->refined, &m->verification);
   Readjust(tracks, pairs, options, nullptr, &scratch, &m->init, &m->hessians, &m->refined, &m->verification,
@@ -436,6 +472,8 @@ void AdjustModels(const Reconstruction& tracks, const std::vector<TwoViewGeometr
                   PointlessMapperResult* r) {
   // 7. Pointless global BA, re-linearised at its solution.
   r->refined = AdjustPointless(tracks, r->initial.init, &r->hessians, options, gcps, report);
+  AdjustFromTheTripletsIfStuck(tracks, r->initial.init, options, gcps, report, &r->hessians, &r->refined,
+                               /*write_workspace=*/true);
   if (options.record_convergence) {
     StageTimer timer(report, "convergence");
     r->convergence = EvaluateConvergence(tracks, r->refined.history, options.convergence);

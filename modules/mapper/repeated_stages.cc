@@ -18,7 +18,8 @@ void KeepFirstAdjustmentStages(Report* report) {
                {"local_hessians", "local_hessians_output", "global_ba", "gcp_check", "convergence", "verification",
                 "triangulation", "more_models", "local_hessians_before_readjustment",
                 "local_hessians_output_before_readjustment", "global_ba_before_readjustment",
-                "verification_before_readjustment"},
+                "verification_before_readjustment", "local_hessians_before_triplet_start",
+                "local_hessians_output_before_triplet_start", "global_ba_before_triplet_start"},
                "_before_joining");
 }
 
