@@ -44,7 +44,7 @@ struct SynthArgs {
   int64_t seed = 1;  // signed so that a negative seed is rejected rather than wrapped
   SyntheticOptions options;
   bool render = false;
-  std::string scene = "room";  // --render: room | aerial
+  std::string scene = "room";  // --render: room | object | aerial
   RenderedSceneOptions render_options;
   AerialBlockOptions aerial = DefaultAerialBlockOptions();
 };
@@ -68,14 +68,15 @@ int RunRenderAerial(const SynthArgs& args) {
 int RunRender(const SynthArgs& args) {
   RenderedSceneOptions options = args.render_options;
   options.seed = static_cast<uint64_t>(args.seed);
-  const RenderedScene scene = RenderRoomScene(options);
+  const RenderedScene scene = args.scene == "object" ? RenderObjectScene(options) : RenderRoomScene(options);
   Timer timer;
   WriteRenderedScene(scene, args.out);
   const Camera& cam = scene.gt.cameras.at(1);
-  std::printf("synth --render room (seed %llu): %zu images %dx%d, %s f %.1f px (prior %.1f px), ring extent %.2f m, "
+  std::printf("synth --render %s (seed %llu): %zu images %dx%d, %s f %.1f px (prior %.1f px), ring extent %.2f m, "
               "rendered in %.2f s, written in %.2f s\n",
-              static_cast<unsigned long long>(options.seed), scene.images.size(), cam.width, cam.height,
-              CameraModelName(cam.model), cam.params[0], scene.calibration.params[0], scene.extent, scene.seconds,
+              args.scene.c_str(), static_cast<unsigned long long>(options.seed), scene.images.size(), cam.width,
+              cam.height, CameraModelName(cam.model), cam.params[0], scene.calibration.params[0], scene.extent,
+              scene.seconds,
               timer.Seconds());
   std::printf("wrote %s/{images/, cameras.txt, gt/, loop.txt}\n", args.out.c_str());
   return 0;
@@ -135,9 +136,10 @@ void RegisterSynth(CLI::App& app) {
   CLI::App* sub = app.add_subcommand("synth", "Generate a synthetic scene with ground truth");
   sub->add_option("--scenario", args->scenario, "orbit | longfocal | aerial | planar (tracks only; not with --render)");
   sub->add_flag("--render", args->render,
-                "Render photographs with known poses instead of tracks (--scene room or aerial)");
+                "Render photographs with known poses instead of tracks (--scene room, object or aerial)");
   sub->add_option("--scene", args->scene,
-                  "--render: room (a textured room seen from a ring, default) | aerial (a textured town flown "
+                  "--render: room (a textured room seen from a ring, default) | object (a textured object in a plain room, "
+                  "seen all around) | aerial (a textured town flown "
                   "in strips, 1000 images 1024x768 by default)");
   sub->add_option("--forward-overlap", args->aerial.forward_overlap,
                   "--scene aerial: overlap along a strip, [0.5, 0.9] (default 0.75)");
@@ -207,10 +209,11 @@ void RegisterSynth(CLI::App& app) {
         ValidateAerialBlockOptions(o);
         return RunRenderAerial(a);
       }
-      if (a.scene != "room") ThrowInputError("--scene", 0, "unknown scene '" + a.scene + "' (room, aerial)");
+      if (a.scene != "room" && a.scene != "object")
+        ThrowInputError("--scene", 0, "unknown scene '" + a.scene + "' (room, object, aerial)");
       for (const char* opt : kAerialOnly)
         if (sub->count(opt)) ThrowInputError(opt, 0, "only applies with --scene aerial");
-      if (sub->count("--strips")) ThrowInputError("--strips", 0, "does not apply to the room (--scene aerial)");
+      if (sub->count("--strips")) ThrowInputError("--strips", 0, "only applies with --scene aerial");
       if (sub->count("--images")) a.render_options.num_images = a.options.num_images;
       a.render_options.k1 = a.options.k1;
       a.render_options.focal_prior_error = a.options.focal_prior_error;

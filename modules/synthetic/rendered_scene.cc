@@ -87,6 +87,23 @@ std::vector<QuadSpec> RoomGeometry() {
   return q;
 }
 
+// An object on a table-sized stand in a plain room: the walls, floor and ceiling one grey each
+// (texel 0), so that every feature lies on the object, which the ring of cameras sees all
+// around; its parts at several depths and angles, so that no pair sees one plane only.
+std::vector<QuadSpec> ObjectGeometry() {
+  constexpr double X = 3.0, Y = 3.0, H = 2.6;
+  const Eigen::Vector3d o(-X, -Y, 0.0), ex(2 * X, 0, 0), ey(0, 2 * Y, 0), ez(0, 0, H);
+  std::vector<QuadSpec> q = {{o, ex, ey, 0.0}, {o + ez, ex, ey, 0.0}, {o, ex, ez, 0.0},
+                             {o + ey, ex, ez, 0.0}, {o, ey, ez, 0.0},  {o + ex, ey, ez, 0.0}};
+  std::vector<QuadSpec> parts;
+  AddBox({0.0, 0.0}, 0.22, 0.16, 0.0, 0.45, 15.0, &parts);     // the body
+  AddBox({0.05, -0.02}, 0.12, 0.1, 0.45, 0.7, -30.0, &parts);  // a smaller part on top
+  AddBox({-0.2, 0.18}, 0.07, 0.09, 0.0, 0.3, 50.0, &parts);    // one at its side
+  AddBox({0.22, -0.2}, 0.06, 0.06, 0.0, 0.18, 5.0, &parts);    // and a low one in front
+  q.insert(q.end(), parts.begin(), parts.end());
+  return q;
+}
+
 // View-independent (Lambertian) shading from one distant light, so that faces differ in
 // brightness as in a photograph; |cos| because the quads' normals are not oriented.
 double Shade(const QuadSpec& q) {
@@ -99,6 +116,10 @@ TexturedQuad Texture(const QuadSpec& spec, uint64_t seed) {
   q.origin = spec.origin;
   q.u_axis = spec.u;
   q.v_axis = spec.v;
+  if (spec.texel <= 0) {  // plain: one grey, shaded like the others
+    q.texture = cv::Mat(2, 2, CV_8UC3, cv::Scalar::all(150.0 * Shade(spec)));
+    return q;
+  }
   const int w = std::max(1, static_cast<int>(std::lround(spec.u.norm() / spec.texel)));
   const int h = std::max(1, static_cast<int>(std::lround(spec.v.norm() / spec.texel)));
   q.texture = synthetic::MakeProceduralTexture(w, h, seed);
@@ -130,7 +151,11 @@ Camera RenderedCamera(const RenderedSceneOptions& options) {
   return synthetic::WithRadialDistortion(cam, options.k1, "--k1");
 }
 
-RenderedScene RenderRoomScene(const RenderedSceneOptions& options) {
+namespace {
+
+// The scene's quads textured and seen from `ring`: gt, calibration, loop and images.
+RenderedScene RenderRing(const RenderedSceneOptions& options, const synthetic::RingSpec& ring,
+                         const std::vector<QuadSpec>& specs) {
   ValidateRenderedSceneOptions(options);
   Timer timer;
   RenderedScene scene;
@@ -139,9 +164,7 @@ RenderedScene RenderRoomScene(const RenderedSceneOptions& options) {
   scene.gt.cameras[1] = cam;
   scene.calibration = synthetic::FocalPrior(cam, options.focal_prior_error);
 
-  // The ring: radius 2.4 m (the boxes' far corner is ~0.9 m from the centre, the walls 3.5 m).
   synthetic::Rng rng(options.seed);
-  const synthetic::RingSpec ring{"room_%03d.png", 2.4, 0.08, 1.5, 0.12, 0.04, 0.15, {0.0, 0.0, 0.7}, 0.08, 2.0};
   const std::vector<synthetic::LayoutView> views = synthetic::RingViews(ring, options.num_images, rng);
   Eigen::AlignedBox3d box;
   for (size_t k = 0; k < views.size(); ++k) {
@@ -155,7 +178,6 @@ RenderedScene RenderRoomScene(const RenderedSceneOptions& options) {
   }
   scene.extent = box.diagonal().norm();
 
-  const std::vector<QuadSpec> specs = RoomGeometry();
   std::vector<TexturedQuad> quads(specs.size());
   tbb::parallel_for(size_t(0), specs.size(),
                     [&](size_t i) { quads[i] = Texture(specs[i], synthetic::MixSeed(options.seed, i)); });
@@ -169,6 +191,20 @@ RenderedScene RenderRoomScene(const RenderedSceneOptions& options) {
   });
   scene.seconds = timer.Seconds();
   return scene;
+}
+
+}  // namespace
+
+RenderedScene RenderRoomScene(const RenderedSceneOptions& options) {
+  // The ring: radius 2.4 m (the boxes' far corner is ~0.9 m from the centre, the walls 3.5 m).
+  const synthetic::RingSpec ring{"room_%03d.png", 2.4, 0.08, 1.5, 0.12, 0.04, 0.15, {0.0, 0.0, 0.7}, 0.08, 2.0};
+  return RenderRing(options, ring, RoomGeometry());
+}
+
+RenderedScene RenderObjectScene(const RenderedSceneOptions& options) {
+  // The ring: radius 1.3 m around the object (0.5 m across), looking at its middle from above.
+  const synthetic::RingSpec ring{"object_%03d.png", 1.3, 0.04, 0.9, 0.08, 0.02, 0.1, {0.0, 0.0, 0.3}, 0.03, 2.0};
+  return RenderRing(options, ring, ObjectGeometry());
 }
 
 void WriteRenderedScene(const RenderedScene& scene, const std::string& dir) {

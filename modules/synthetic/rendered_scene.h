@@ -69,6 +69,9 @@ struct RenderedScene {
 Camera RenderedCamera(const RenderedSceneOptions& options);
 
 RenderedScene RenderRoomScene(const RenderedSceneOptions& options);
+// An object (a few textured boxes, 0.5 m across) in a plain room, seen all around from a ring:
+// every feature lies on the object.
+RenderedScene RenderObjectScene(const RenderedSceneOptions& options);
 
 // Writes the layout of shared/datasets:
 //   DIR/images/<name>.png   the photos (the folder is replaced as a whole)
