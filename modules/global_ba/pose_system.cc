@@ -36,32 +36,29 @@ PoseSystem::PoseSystem(const MotionBlockProblem& p) {
   std::sort(pairs.begin(), pairs.end());
   pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
   pairs_ = std::move(pairs);
-  value_index_.resize(pairs_.size());
+  // Calls f(e, vr, vc) for each entry e = 6 r + c of block k that the system stores: both
+  // variables free, in the lower triangle (vr >= vc).
+  const auto for_each_stored = [&](size_t k, const auto& f) {
+    const auto [a, b] = pairs_[k];
+    for (int r = 0; r < 6; ++r)
+      for (int c = 0; c < 6; ++c) {
+        const int vr = var_[6 * a + r], vc = var_[6 * b + c];
+        if (vr >= 0 && vc >= 0 && vr >= vc) f(6 * r + c, vr, vc);
+      }
+  };
+  value_index_.assign(pairs_.size(), {});
+  for (std::array<int, 36>& index : value_index_) index.fill(-1);
   if (dense()) {  // the dense matrix, column by column
     dense_.setZero(num_free_, num_free_);
     value_size_ = static_cast<size_t>(num_free_) * num_free_;
-    for (size_t k = 0; k < pairs_.size(); ++k) {
-      const auto [a, b] = pairs_[k];
-      for (int r = 0; r < 6; ++r)
-        for (int c = 0; c < 6; ++c) {
-          const int vr = var_[6 * a + r], vc = var_[6 * b + c];
-          value_index_[k][6 * r + c] = vr >= 0 && vc >= 0 && vr >= vc ? vc * num_free_ + vr : -1;
-        }
-    }
+    for (size_t k = 0; k < pairs_.size(); ++k)
+      for_each_stored(k, [&](int e, int vr, int vc) { value_index_[k][e] = vc * num_free_ + vr; });
     return;
   }
-  // The sparse pattern built column by column: the pairs are sorted by (a, b), so the lower
-  // triangle's columns of pose b are met in order per a; counting first keeps the one copy.
+  // The sparse pattern built in place (no list of entries): the entries of each column
+  // counted, then written and sorted; the intrinsics' border and corner dense.
   std::vector<int> count(num_free_ + 1, 0);
-  for (const auto& [a, b] : pairs_)
-    for (int c = 0; c < 6; ++c) {
-      const int vc = var_[6 * b + c];
-      if (vc < 0) continue;
-      for (int r = 0; r < 6; ++r) {
-        const int vr = var_[6 * a + r];
-        if (vr >= 0 && vr >= vc) ++count[vc + 1];
-      }
-    }
+  for (size_t k = 0; k < pairs_.size(); ++k) for_each_stored(k, [&](int, int, int vc) { ++count[vc + 1]; });
   for (int c = 0; c < num_pose_vars_; ++c) count[c + 1] += num_intrinsic_vars_;  // the border
   for (int c = num_pose_vars_; c < num_free_; ++c) count[c + 1] += num_free_ - c;  // the corner
   for (int c = 0; c < num_free_; ++c) count[c + 1] += count[c];
@@ -70,29 +67,15 @@ PoseSystem::PoseSystem(const MotionBlockProblem& p) {
   std::copy(count.begin(), count.end(), matrix_.outerIndexPtr());
   std::vector<int> next(count.begin(), count.end() - 1);
   int* inner = matrix_.innerIndexPtr();
-  for (const auto& [a, b] : pairs_)
-    for (int c = 0; c < 6; ++c) {
-      const int vc = var_[6 * b + c];
-      if (vc < 0) continue;
-      for (int r = 0; r < 6; ++r) {
-        const int vr = var_[6 * a + r];
-        if (vr >= 0 && vr >= vc) inner[next[vc]++] = vr;
-      }
-    }
+  for (size_t k = 0; k < pairs_.size(); ++k) for_each_stored(k, [&](int, int vr, int vc) { inner[next[vc]++] = vr; });
   for (int c = 0; c < num_free_; ++c) {
     for (int r = std::max(c, num_pose_vars_); r < num_free_; ++r) inner[next[c]++] = r;
     std::sort(inner + count[c], inner + count[c + 1]);
   }
   std::fill(matrix_.valuePtr(), matrix_.valuePtr() + matrix_.nonZeros(), 0.0);
   value_size_ = static_cast<size_t>(matrix_.nonZeros());
-  for (size_t k = 0; k < pairs_.size(); ++k) {
-    const auto [a, b] = pairs_[k];
-    for (int r = 0; r < 6; ++r)
-      for (int c = 0; c < 6; ++c) {
-        const int vr = var_[6 * a + r], vc = var_[6 * b + c];
-        value_index_[k][6 * r + c] = vr >= 0 && vc >= 0 && vr >= vc ? Index(vr, vc) : -1;
-      }
-  }
+  for (size_t k = 0; k < pairs_.size(); ++k)
+    for_each_stored(k, [&](int e, int vr, int vc) { value_index_[k][e] = Index(vr, vc); });
   solver_.analyzePattern(matrix_);
   PGBA_LOG_DEBUG << "pose system: " << num_free_ << " unknowns, " << pairs_.size() << " pose-pair blocks, "
                  << matrix_.nonZeros() << " nonzeros; its Cholesky factor " << solver_.cholmod().lnz
