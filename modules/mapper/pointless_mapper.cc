@@ -222,6 +222,17 @@ void ForgetWorkspaceHessians(const PointlessMapperOptions& options) {
   std::filesystem::remove(WorkspaceLocalHessiansPath(options.workspace), ignored);
 }
 
+// Why the pointless BA's passes ended (GlobalBASummary::stop_reason), without the
+// "wide_threshold_" of a run that ended in its wide-threshold phase (then *wide is set).
+std::string StopReason(const RefinementResult& refined, bool* wide = nullptr) {
+  static const std::string kWide = "wide_threshold_";
+  std::string stop = refined.details.value("stop_reason", "");
+  const bool in_wide = stop.compare(0, kWide.size(), kWide) == 0;
+  if (in_wide) stop.erase(0, kWide.size());
+  if (wide) *wide = in_wide;
+  return stop;
+}
+
 // Step 7: the pointless global BA from the initial poses on the local Hessians.
 // With options.workspace the local Hessians, on disk already, are handed to the adjustment.
 RefinementResult AdjustPointless(const Reconstruction& tracks, const GlobalInitResult& init,
@@ -244,9 +255,8 @@ RefinementResult AdjustPointless(const Reconstruction& tracks, const GlobalInitR
   stage.erase("local_hessians");
   // One line: the images and local adjustments that went in, whether it converged, how long
   // (the local adjustments' time is their own stage's).
-  std::string stop = stage.value("stop_reason", "");
-  const bool wide = stop.rfind("wide_threshold_", 0) == 0;
-  if (wide) stop.erase(0, std::string("wide_threshold_").size());
+  bool wide = false;
+  const std::string stop = StopReason(refined, &wide);
   const std::string why = stop == "max_relinearizations" ? "global_ba.max_relinearizations passes reached"
                           : stop == "refused_step"       ? "a step raised the reprojection error"
                                                          : stop;
@@ -328,9 +338,8 @@ void VerifyImages(const Reconstruction& tracks, const std::vector<TwoViewGeometr
 void AdjustFromTheTripletsIfStuck(const Reconstruction& tracks, const GlobalInitResult& init,
                                   const PointlessMapperOptions& options, const GcpInput* gcps, Report* report,
                                   PreparedHessians* hessians, RefinementResult* refined, bool write_workspace) {
-  const std::string stop = refined->details.value("stop_reason", "");
   // (Refused within the cost tolerance: the start is the minimum already.)
-  const bool refused_first = stop.size() >= 12 && stop.compare(stop.size() - 12, 12, "refused_step") == 0 &&
+  const bool refused_first = StopReason(*refined) == "refused_step" &&
                              refined->details.value("relinearizations", 0) == 0 &&
                              !refined->details.value("converged", false);
   if (!refused_first) return;
