@@ -242,7 +242,9 @@ void GlobalBaPasses(std::ostringstream& h, const nlohmann::json& r) {
           keys.push_back(key);
   std::stable_partition(keys.begin(), keys.end(), [](const std::string& k) { return k.find("cost") != std::string::npos; });
   h << "<p>Each pass takes the local bundle adjustments' Hessians again where the previous one left the poses "
-       "and solves again; a pass is kept when it lowers the reprojection cost.</p>\n";
+       "and solves again; a pass is kept when it lowers the reprojection cost. A last step that moved no "
+       "image by more than global_ba.relinearize_tolerance of its noise is kept without taking them again "
+       "(its cost: -).</p>\n";
   h << "<table><tr><th>pass</th>";
   for (const std::string& k : keys) h << "<th>" << XmlEscape(PassColumnName(k)) << "</th>";
   h << "</tr>\n";

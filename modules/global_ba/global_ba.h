@@ -124,14 +124,15 @@ struct GlobalBAOptions {
   //  - a kept step lowers the true cost by less than relinearize_cost_tolerance (relative), or
   //  - the step moved the motions by less than relinearize_tolerance noise sigmas (the
   //    largest over the motions of |W_s (x_s - x_lin)| / (unit_s sigma_s): no motion moves
-  //    further than the noise), or
+  //    further than the noise); after the first re-take this is tested before re-taking the
+  //    models, and such a step is kept as solved (its models hold to second order there), or
   //  - a step raises the true cost (refused: the last kept poses are returned; converged
   //    when that step was already below the cost tolerance, else reported as stopped short).
   // max_relinearizations is only a safety net: reaching it is reported as "not converged" in
   // the log and in report.json. 0: the first solve's poses, never re-linearised.
   int max_relinearizations = 30;
   double relinearize_cost_tolerance = 1e-5;
-  double relinearize_tolerance = 0.1;
+  double relinearize_tolerance = 0.25;
   // The paper's unchecked re-linearisation (relinearize_checked false): each solve taken as it
   // is, re-linearised only when the models disagree with their consensus: when the median over
   // motions of e_s^2 / ((6N - 7) sigma_s^2) (e_s the fitting error, sigma_s the motion's pixel
@@ -239,6 +240,8 @@ struct GlobalBASummary {
   // where the pass's models were taken (entry 0: the start), whether the step that led
   // there was kept, and its displacement in noise sigmas (NaN for the start).
   struct Pass {
+    // The true robust cost where the step ended; NaN for a last step kept without re-taking
+    // its models (below relinearize_tolerance).
     double robust_cost = 0.0;
     bool kept = true;
     double displacement = std::numeric_limits<double>::quiet_NaN();

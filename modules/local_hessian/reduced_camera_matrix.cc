@@ -3,6 +3,7 @@
 #include <ceres/jet.h>
 #include <ceres/loss_function.h>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/QR>
 #include <cmath>
@@ -63,6 +64,18 @@ void ObservationJacobian(const LocalBundleProblem& p, const LocalObservation& o,
 // Pseudo-inverse of a symmetric PSD 3x3 block (a point seen under a tiny angle has a nearly
 // singular H_pp; the pseudo-inverse is the Schur complement's limit there).
 bool PseudoInverse3(const Eigen::Matrix3d& A, Eigen::Matrix3d* inv) {
+  // Well conditioned (the common case), the pseudo-inverse is the inverse: no eigenvalue is
+  // below the cut. trace(A) trace(A^-1) bounds the condition number from above, so a bound
+  // under 1e10 proves it; otherwise (or if A is not positive definite) the eigen path decides.
+  const Eigen::LLT<Eigen::Matrix3d> llt(A);
+  if (llt.info() == Eigen::Success) {
+    const Eigen::Matrix3d Ainv = llt.solve(Eigen::Matrix3d::Identity());
+    const double bound = A.trace() * Ainv.trace();
+    if (std::isfinite(bound) && bound > 0 && bound < 1e10) {
+      *inv = 0.5 * (Ainv + Ainv.transpose());
+      return true;
+    }
+  }
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(A);
   if (es.info() != Eigen::Success) return false;
   const Eigen::Vector3d ev = es.eigenvalues();

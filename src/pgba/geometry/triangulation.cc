@@ -310,15 +310,23 @@ TriangulatedPoint Accepted(const std::vector<TrackView>& views, Candidate best, 
 }  // namespace
 
 double MaxTriangulationAngleDeg(const std::vector<TrackView>& views, const Eigen::Vector3d& X) {
-  double best = 0.0;
-  for (size_t i = 0; i < views.size(); ++i) {
-    const Eigen::Vector3d a = (X - views[i].pose.C()).normalized();
-    for (size_t j = i + 1; j < views.size(); ++j) {
-      const Eigen::Vector3d b = (X - views[j].pose.C()).normalized();
-      best = std::max(best, std::atan2(a.cross(b).norm(), a.dot(b)));
+  // The widest pair is the one whose unit rays have the smallest dot product; its angle is
+  // then taken with atan2, accurate at small angles where acos of the dot product is not.
+  std::vector<Eigen::Vector3d> rays(views.size());
+  for (size_t i = 0; i < views.size(); ++i) rays[i] = (X - views[i].pose.C()).normalized();
+  double lowest = std::numeric_limits<double>::infinity();
+  size_t a = 0, b = 0;
+  for (size_t i = 0; i < rays.size(); ++i)
+    for (size_t j = i + 1; j < rays.size(); ++j) {
+      const double d = rays[i].dot(rays[j]);
+      if (d < lowest) {
+        lowest = d;
+        a = i;
+        b = j;
+      }
     }
-  }
-  return best * 180.0 / M_PI;
+  if (a == b) return 0.0;
+  return std::max(0.0, std::atan2(rays[a].cross(rays[b]).norm(), rays[a].dot(rays[b]))) * 180.0 / M_PI;
 }
 
 TriangulatedPoint TriangulateTrack(const std::vector<TrackView>& views, const TriangulationOptions& opt) {
