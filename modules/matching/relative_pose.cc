@@ -237,7 +237,7 @@ void CheckInputs(const std::vector<Eigen::Vector3d>& bearings1, const std::vecto
 
 // RefineRelativePose from a pose fitted to other correspondences of the pair (the front
 // end's, on its matches). Measured on a synthetic orbit from the truth disturbed by 0.1 deg
-// (view_graph_test.cc): refined on the inliers under the threshold alone, 106 of 387 pairs
+// (tests/triplets/pair_estimation_test.cc): refined on the inliers under the threshold alone, 106 of 387 pairs
 // lost their consensus; after a first pass on those of 4x the threshold one did. That pass
 // runs only when the threshold sees less than kRefineStartWellPlaced of the wide inliers (a
 // front-end pose on the same features nearly always does). Then up to kRefineStartMaxPasses
