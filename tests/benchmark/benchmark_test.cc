@@ -72,7 +72,7 @@ TEST_P(BenchmarkOnScene, PaperTripletsReachPointBasedSigmaWithFarFewerUnknowns) 
   EXPECT_LE(pl.metrics.ground_truth->rot_err_deg_median, 1.03 * r.init_metrics.ground_truth->rot_err_deg_median);
 
   // Records: one sigma per iteration plus the start, starting at sigma_init, ending at the
-  // final sigma; the JSON carries the ARCHITECTURE.md keys.
+  // final sigma; the JSON carries the keys of docs/formats.md, "Reports".
   for (const MethodOutcome* m : {&pl, &pb, &av}) {
     ASSERT_EQ(m->convergence.size(), static_cast<size_t>(m->refinement.iterations) + 1)
         << RefinementMethodName(m->method);
