@@ -1,5 +1,5 @@
-// `pgba run` end to end on real photographs with ground truth (shared/datasets), the
-// acceptance of issue 6 on the dataset where the view graph is weakest: temple_sparse_ring,
+// `pgba run` end to end on real photographs with ground truth (shared/datasets), on the
+// dataset where the view graph is weakest: temple_sparse_ring,
 // a 360 degree Middlebury ring whose 43 degree gap (templeSR0014 - templeSR0002) leaves no
 // match, so the ring is an open chain, and two of whose hinges (templeSR0005, templeSR0009)
 // are shared by no verified triangle: only open triplets hold it together. Every image must
@@ -50,11 +50,11 @@ TEST(RunRealData, TempleSparseRingEveryImageRegistered) {
   fs::remove_all(out);
 }
 
-// Issue 18 on dino_sparse_ring (weakly textured plaster, ~230 SIFT features per image at the
-// fixed threshold, nothing registered before): the object_ring preset's adaptive contrast
+// dino_sparse_ring (weakly textured plaster, ~230 SIFT features per image at the fixed
+// threshold, where COLMAP registers nothing): the object_ring preset's adaptive contrast
 // threshold lowers the threshold of every image, weak pairs confirmed by a third view (and
 // kept as a chain end's only link) connect more images, the registered images (6 measured,
-// 4 without the weak pairs; docs/measurement_history.md "Weakly textured objects" says why not all 16) are
+// 4 without the weak pairs; docs/benchmarks.md "Weakly textured objects" says why not all 16) are
 // within 0.33 deg of the ground truth (the point-based BA's optimum on these tracks, where the
 // converged pointless BA ends: max 0.326 deg), and report.html shows the adapted images and the view
 // graph, drawn and in words.

@@ -121,11 +121,11 @@ TEST(PgbaSift, SameDetectorDescriptorAndRepeatabilityAsOpenCvOnARealPhoto) {
 }
 
 // OpenCV drops keypoints equal in position, size and angle (two extrema whose refinements end
-// on the same sample) before its cap; pgba's did not, and each duplicate is two identical
-// descriptors in one image, which Lowe's ratio test rejects in every match (16 of 1637 on
-// this Middlebury image before the fix, 0.1-1% on the rings and on Strecha photos). With the
-// duplicates dropped the two implementations find the same number of keypoints: 1621 each
-// here, 0-3 apart on every image of both rings.
+// on the same sample) before its cap, and so does pgba's: each duplicate would be two
+// identical descriptors in one image, which Lowe's ratio test rejects in every match (16 of
+// 1637 on this Middlebury image with them kept, 0.1-1% on the rings and on Strecha photos).
+// With the duplicates dropped the two implementations find the same number of keypoints:
+// 1621 each here, 0-3 apart on every image of both rings.
 TEST(PgbaSift, NoDuplicateKeypointsAndOpenCvsCountOnASmallImage) {
   const fs::path file = fs::path(PGBA_SHARED_DIR) / "datasets" / "temple_sparse_ring" / "images" / "templeSR0002.png";
   const cv::Mat img = cv::imread(file.string(), cv::IMREAD_GRAYSCALE);

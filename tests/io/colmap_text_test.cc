@@ -82,7 +82,7 @@ TEST(ColmapText, NoPriorFocalLengthRoundTrip) {
   EXPECT_FALSE(back.at(1).has_prior_focal_length);
   EXPECT_TRUE(back.at(2).has_prior_focal_length);
   EXPECT_FALSE(back.at(7).has_prior_focal_length);
-  // Every camera with a prior: no marker at all (the file is COLMAP's as before).
+  // Every camera with a prior: no marker at all (the file is exactly COLMAP's).
   for (auto& [id, c] : rec.cameras) c.has_prior_focal_length = true;
   WriteColmapCamerasFile(rec, path.string());
   EXPECT_EQ(ReadBytes(path).find("pgba:"), std::string::npos);
