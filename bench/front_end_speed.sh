@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # Front-end speed and accuracy, variants of pgba side by side in one run (the same moment of
 # a shared machine, so their ratios are meaningful even when absolute times are not):
-#   before   the front end of main 25ebad3: OpenCV SIFT, FLANN kd-forest (4 trees, 32 checks), no
-#            buffer reuse between images (features.reuse_buffers false)
-#   kdtree   today's defaults but the kd-forest instead of cascade hashing
-#   default  today's defaults (buffer reuse, cascade hashing, SIFT "auto": pgba's from 0.5 MP,
+#   before   the front end without pgba's own parts: OpenCV SIFT, FLANN kd-forest (4 trees,
+#            32 checks), no buffer reuse between images (features.reuse_buffers false)
+#   kdtree   the defaults but the kd-forest instead of cascade hashing
+#   default  the defaults (buffer reuse, cascade hashing, SIFT "auto": pgba's from 0.5 MP,
 #            OpenCV's below)
 #   opencv   defaults + features.sift.implementation "opencv" (OpenCV 4.6's SIFT, the
 #            same algorithm as pgba's, its pyramid on one thread)
@@ -22,7 +22,7 @@
 # pair), verified pairs and inliers, total time, and the rotation errors against the
 # ground truth. CPU time (user + system of every thread, report.json's cpu_seconds) per image
 # and per pair beside the wall times: on a shared machine the others' load stretches the wall
-# time, the CPU time far less. The issue's bars on 2 cores, <= 1 s per 6 MP image and <= 15 ms
+# time, the CPU time far less. The targets on 2 cores, <= 1 s per 6 MP image and <= 15 ms
 # per pair, are <= 2 s and <= 30 ms of CPU time when both cores work.
 #
 # A variant whose run fails (e.g. no triplet on a weakly textured ring) is reported with 0
@@ -31,7 +31,7 @@
 # Usage: bench/front_end_speed.sh [DATASET_DIR ...]  (default: fountain_p11 herzjesu_p8 entry_p10)
 # Environment: PGBA=path/to/pgba (default: newest build*/bin/pgba), VARIANTS="before default"
 #   (default: before default octave0), REPEAT=1|2, PGBA_BASE=path/to/another/pgba adds a
-#   variant "base" run with that binary and the default config (for example a build of main).
+#   variant "base" run with that binary and the default config (for example another branch's build).
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 shared=$(cd "$here/.." && pwd)/shared
@@ -58,7 +58,7 @@ run_variant() {  # DATASET VARIANT ROUND
   [[ $v == base ]] && bin=$PGBA_BASE
   [[ -f "$tmp/$v.json" ]] || { echo "error: unknown variant '$v' (before, kdtree, default, opencv, pgba, pgba2, octave0)" >&2; exit 2; }
   local out="$tmp/$(basename "$ds")_${v}_$round"
-  # The whole process' wall and CPU time (any build, also one from before report.json had
+  # The whole process' wall and CPU time (of any build, also one whose report.json has no
   # cpu_seconds), and the load average after the run.
   /usr/bin/time -f "%e %U %S" -o "$out.time" "$bin" -v 0 run --images "$ds/images" --calib "$ds/cameras.txt" \
     --gt "$ds/gt" --config "$tmp/$v.json" --out "$out" >"$out.log" 2>&1 ||

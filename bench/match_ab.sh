@@ -7,7 +7,7 @@
 # Alternating and taking minima keeps a shared machine's load out of the comparison; the load
 # average is printed with each dataset.
 # CPU time (user + system): of the process over the pair loop per pair ("CPU ms/pair", the
-# cost on a machine whose other load only delays it; the bar, <= 15 ms per pair on 2
+# cost on a machine whose other load only delays it; the target, <= 15 ms per pair on 2
 # cores, is <= 30 ms of it when both cores match), and of each pair's thread over its
 # descriptor search and its verification.
 #

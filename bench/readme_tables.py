@@ -1,14 +1,20 @@
 #!/usr/bin/env python3
-"""The README's tables, in its layout, from what bench/readme_tables.sh OUT left in OUT.
+"""The tables of docs/benchmarks.md, from what bench/readme_tables.sh OUT left in OUT.
 
-Usage: bench/readme_tables.py OUT > tables.md
-Each table is printed under the README heading it belongs to; a section that did not run
-prints "(not run)". Numbers come from the scripts' own outputs (compare_colmap, weak_rings,
+Usage: bench/readme_tables.py OUT [DOC]
+Prints every table under a heading (what the script keeps as OUT/tables.md; a section that did
+not run prints "(not run)"). With DOC (docs/benchmarks.md), also replaces in DOC each table
+between the lines "<!-- table NAME -->" and "<!-- end table -->" by the one measured in OUT;
+a table whose section did not run is left as it is, and the prose around the tables is not
+touched. Numbers come from the scripts' own outputs (compare_colmap, weak_rings,
 self_calibration, real_self_calibration, front_end_speed, thousand_photos) or, for the pose
-and Table 1, from the benchmark.json files pose_accuracy.sh left.
+table and Table 1, from the benchmark.json files pose_accuracy.sh left.
 """
+import contextlib
+import io
 import json
 import os
+import re
 import sys
 
 out = sys.argv[1]
@@ -65,7 +71,7 @@ def scene_dirs(section):
     kinds = ["orbit", "aerial", "planar", "longfocal", "tracks"]
     real = ["fountain_p11", "herzjesu_p8", "entry_p10", "temple_sparse_ring", "dino_sparse_ring"]
 
-    def key(n):  # synthetic by kind, seed, then size; real sets in the README's order
+    def key(n):  # synthetic by kind, seed, then size; real sets in the order of docs/benchmarks.md
         kind = n.split("_")[0]
         sized = kind != "tracks" and len(n.split("_")) > 2
         where = [i for i, d in enumerate(real) if d in n] if kind == "tracks" else [0]
@@ -169,24 +175,49 @@ def single_build_table(name):
 
 colmap_header = ["dataset", "method", "features s", "matching s", "SfM s", "total s", "registered", "models",
                  "rot err median", "rot err max", "centre err median", "rel. rot err median", "sigma", "focal error %"]
-print("## Measured: pose accuracy of the default (whole-track motions) against point-based\n")
-pose_table()
-print("## Measured: the paper's Table 1 on the synthetic scenes\n")
-table1()
-print("## Measured: real images end to end (calibrated)\n")
-spaced_table("colmap.txt", colmap_header)
-print("## Measured: real images end to end, no calibration\n")
-spaced_table("colmap_uncal.txt", colmap_header)
-print("## Measured: weakly textured objects\n")
-spaced_table("weak.txt", ["variant", "dataset", "features/image", "adjacent pairs kept", "weak pairs confirmed",
-                          "registered", "rot err median", "rot err max", "time s"])
-print("## Measured: self-calibration on synthetic scenes\n")
-copied("selfcal.txt")
-print("## Measured: self-calibration on real images\n")
-single_build_table("realselfcal.txt")
-print("## Measured: front-end speed\n")
-piped_tables("frontend.txt")
-print("## Measured: a thousand photos\n")
-piped_tables("thousand.txt")
+
+# (name of the table in docs/benchmarks.md, heading in tables.md, how it is printed)
+tables = [
+    ("pose", "Pose accuracy of the pointless BA against a point-based BA", pose_table),
+    ("table1", "The paper's Table 1 on the synthetic scenes", table1),
+    ("colmap", "Real images end to end, against COLMAP (calibrated)", lambda: spaced_table("colmap.txt", colmap_header)),
+    ("colmap_uncal", "Real images end to end, no calibration",
+     lambda: spaced_table("colmap_uncal.txt", colmap_header)),
+    ("weak", "Weakly textured objects",
+     lambda: spaced_table("weak.txt", ["variant", "dataset", "features/image", "adjacent pairs kept",
+                                       "weak pairs confirmed", "registered", "rot err median", "rot err max", "time s"])),
+    ("selfcal", "Self-calibration on synthetic scenes", lambda: copied("selfcal.txt")),
+    ("realselfcal", "Self-calibration on real images", lambda: single_build_table("realselfcal.txt")),
+    ("frontend", "Front-end speed", lambda: piped_tables("frontend.txt")),
+    ("thousand", "A thousand photos", lambda: piped_tables("thousand.txt")),
+]
+
+
+def captured(fn):
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf):
+        fn()
+    return buf.getvalue()
+
+
+measured = {name: captured(fn) for name, _, fn in tables}
+for name, heading, _ in tables:
+    print(f"## {heading}\n")
+    print(measured[name], end="")
 print("## The run\n")
 copied("log.txt")
+
+if len(sys.argv) > 2:
+    doc_path = sys.argv[2]
+    doc = open(doc_path).read()
+    for name, _, _ in tables:
+        table = measured[name].strip()
+        if table.startswith("(not run)"):
+            continue
+        block = re.compile(r"(<!-- table " + re.escape(name) + r" -->\n).*?(\n<!-- end table -->)", re.S)
+        if not block.search(doc):
+            print(f"warning: {doc_path} has no table '{name}'", file=sys.stderr)
+            continue
+        doc = block.sub(lambda m: m.group(1) + table + m.group(2), doc)
+    with open(doc_path, "w") as f:
+        f.write(doc)

@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# Every table of the README measured again in one run, with one build (issue 17's acceptance:
-# a refactoring must leave the numbers where they were). Each section calls the script the
-# README names for its table, with the README's arguments, and keeps its raw output in
-# OUT/<section>.txt; OUT/tables.md gets every table in the README's layout, and OUT/log.txt
-# says when each section ran and at what load average.
+# Every table of docs/benchmarks.md measured again in one run, with one build. Each section
+# calls the script docs/benchmarks.md names for its table, with the arguments given there, and
+# keeps its raw output in OUT/<section>.txt; OUT/tables.md gets every table, OUT/log.txt says
+# when each section ran and at what load average, and the tables of docs/benchmarks.md (between
+# its "<!-- table NAME -->" markers) are replaced by the ones measured (bench/readme_tables.py).
 #
 #   colmap       bench/compare_colmap.sh: the Strecha sets (default config) and the two rings
 #                (configs/object_ring.json), each given the dataset's calibration; the kept
@@ -12,8 +12,8 @@
 #   pose         bench/pose_accuracy.sh on one thread (the time column is the CPU-time ratio):
 #                orbit, aerial, planar at seeds 1-4, aerial:1 at 500 images, longfocal seeds
 #                1-4, the four real sets' tracks; then configs/paper_triplets.json, and its
-#                weighting over 7-view motions (local_motions.kind neighbours, the long-focal
-#                preset until session 19), on some of them. Table 1 comes from the same runs
+#                weighting over 7-view motions (local_motions.kind neighbours, views 7), on
+#                some of them. Table 1 comes from the same runs
 #   weak         bench/weak_rings.sh with configs/object_ring.json and variants of it
 #   selfcal      bench/self_calibration.sh (its default scenes and longfocal:1)
 #   realselfcal  bench/real_self_calibration.sh (four datasets, four variants)
@@ -22,9 +22,11 @@
 #   thousand     bench/thousand_photos.sh, 1000 images
 #
 # Usage: bench/readme_tables.sh OUT [SECTION...]   (default: every section, in the order above)
-#   With SECTIONs, OUT/tables.md is printed again from whatever OUT holds.
+#   With SECTIONs, OUT/tables.md is printed again from whatever OUT holds, and only the tables
+#   of the sections that OUT holds are replaced in docs/benchmarks.md.
 # Environment: PGBA=path/to/pgba (default: build/bin/pgba; copy it elsewhere first if you
-#   build while this runs).
+#   build while this runs); DOC=FILE writes the tables into FILE instead of docs/benchmarks.md,
+#   DOC= (empty) into no file.
 # About 25 minutes on an idle 2-core machine. Never run by the tests.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
@@ -40,8 +42,8 @@ sections=("$@")
 
 log() { echo "$(date -u +%FT%TZ) load $(cut -d' ' -f1-3 /proc/loadavg) $*" | tee -a "$out/log.txt" >&2; }
 
-# The real sets' tracks: from the colmap section's kept workspaces (same `pgba run` as the
-# README's real rows: default config, the dataset's calibration).
+# The real sets' tracks: from the colmap section's kept workspaces (the same `pgba run` as the
+# real rows of docs/benchmarks.md: default config, the dataset's calibration).
 real_tracks() {
   local name dir
   for name in fountain_p11 herzjesu_p8 entry_p10 temple_sparse_ring; do
@@ -131,5 +133,6 @@ for s in "${sections[@]}"; do
   "run_$s" >"$out/$s.txt" 2>"$out/$s.err" || log "section $s failed (exit $?, see $out/$s.err)"
 done
 log "done"
-python3 "$here/bench/readme_tables.py" "$out" >"$out/tables.md"
-echo "tables: $out/tables.md" >&2
+doc=${DOC-$here/docs/benchmarks.md}
+python3 "$here/bench/readme_tables.py" "$out" ${doc:+"$doc"} >"$out/tables.md"
+echo "tables: $out/tables.md${doc:+, written into $doc}" >&2

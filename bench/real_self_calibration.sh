@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 14's real-data table: each dataset of /work/shared/datasets (images/, cameras.txt,
+# Self-calibration on real images (docs/benchmarks.md): each dataset of /work/shared/datasets (images/, cameras.txt,
 # gt/) run with `pgba run` in four variants, for one or two builds back to back (so their
 # ratios hold on a shared machine):
 #   cal     the dataset's calibration, held (--calib D/cameras.txt): the reference;
@@ -17,7 +17,7 @@
 # Usage: bench/real_self_calibration.sh OUT [DATASET...]
 #   (default: temple_sparse_ring fountain_p11 herzjesu_p8 entry_p10)
 # Environment: PGBA (default: newest build*/bin/pgba), PGBA_BASE (a second build, e.g.
-# main's, run first under the name "base"), TAG (PGBA's name, default "new"), DATASETS (default /work/shared/datasets),
+# another branch's, run first under the name "base"), TAG (PGBA's name, default "new"), DATASETS (default /work/shared/datasets),
 # VARIANTS (default "cal nocal nocal_pp f110").
 set -euo pipefail
 if [[ $# -lt 1 ]]; then

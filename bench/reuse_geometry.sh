@@ -1,17 +1,17 @@
 #!/usr/bin/env bash
-# Issue 16 item 3 (the view graph from the front end's verified geometries) and the cost of
+# The view graph from the front end's verified geometries (pairs.front_end) and the cost of
 # `pgba run`'s convergence curve, measured in one run:
-#   base       PGBA_BASE (a build of main), `pgba run --gt` from scratch
+#   base       PGBA_BASE (another build to compare with), `pgba run --gt` from scratch
 #   default    this build, `pgba run --gt` from scratch (pairs.front_end "refine")
 # then, on copies of default's workspace (features and tracks cached, so only the stages
 # from the view graph on run again; their times compare with each other):
-#   estimate   pairs.front_end "estimate": RANSAC on every candidate, as main does
+#   estimate   pairs.front_end "estimate": RANSAC on every candidate, the front end's geometry unused
 #   reuse      pairs.front_end "reuse": the front end's geometries as they are
 #   refine     pairs.front_end "refine" (the default)
 #   refine_fe  "refine" with pairs.track_only_pairs false: only the front end's pairs
 # Prints per-stage seconds (report.json), the view graph's counts and the rotation errors
 # against the ground truth (Sim(3)-aligned, and the gauge-free relative ones).
-# Usage: PGBA_BASE=/path/to/main/pgba bench/reuse_geometry.sh [DATASET_DIR ...]
+# Usage: PGBA_BASE=/path/to/other/pgba bench/reuse_geometry.sh [DATASET_DIR ...]
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 shared=$(cd "$here/.." && pwd)/shared

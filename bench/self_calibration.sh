@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Self-calibration (issue 14's synthetic acceptance table): the pointless BA with the intrinsics
+# Self-calibration on synthetic scenes (docs/benchmarks.md): the pointless BA with the intrinsics
 # as unknowns against the same scene given its true calibration (held), and against the
 # point-based BA with the same unknowns on the same tracks, which is the maximum-likelihood
 # estimate there: where even it misses a bar, no estimator meets it on that geometry.
@@ -22,7 +22,7 @@
 #     and on the calibrated run's tracks.
 # One row per scene and method: refined focal error (%), k1 error, median relative rotation
 # error over all pairs (gauge-free, rel_rot_err_deg_median) and its ratio to the calibrated
-# pointless run. Issue 14's bars: focal within 0.3%, k1 within 0.005, ratio <= 1.2.
+# pointless run. The targets: focal within 0.3%, k1 within 0.005, ratio <= 1.2.
 #
 # Usage: bench/self_calibration.sh OUT [SCENE:SEED...]
 #   default: orbit, aerial and planar at seeds 1-4, rendered:1.

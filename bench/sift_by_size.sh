@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# pgba's SIFT against OpenCV's through the whole pipeline at several detection sizes (issue 16:
-# where `features.sift.implementation` "auto" switches to pgba's). For each dataset and each
+# pgba's SIFT against OpenCV's through the whole pipeline at several detection sizes (where
+# `features.sift.implementation` "auto" switches to pgba's). For each dataset and each
 # `features.sift.max_image_size` of SIZES (only those below the images' larger side, plus
 # the native size), `pgba run --gt` from scratch once with "opencv" and once with "pgba"
 # (alternated: opencv first at one size, pgba first at the next, so a load drift hits both

@@ -7,7 +7,7 @@
 # a shared machine's load changes out of the ratio.
 # CPU time: the stage's user + system time (report.json stages.features.cpu_seconds, every
 # thread) per image, which the other users' load stretches far less than the wall time. The
-# issue's bar, <= 1 s per 6 MP image on 2 cores, is <= 2 s of CPU time per image when both
+# target, <= 1 s per 6 MP image on 2 cores, is <= 2 s of CPU time per image when both
 # cores work on it (the column "2-core s/image" = CPU / 2, the wall time of a dedicated
 # 2-core machine if the work parallelises fully; the measured wall time bounds it above).
 #

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Self-calibration from a wrong PINHOLE prior on temple_sparse_ring with the tracks held
-# (docs/measurement_history.md, issue 14): the calibrated run's tracks handed the prior camera, `pgba benchmark`
+# (fx is not observable on this ring, bench/temple_prior_survey.sh): the calibrated run's tracks handed the prior camera, `pgba benchmark`
 # with every camera's intrinsics free, so that only the adjustments differ (no second matching
 # pass as in bench/temple_prior_survey.sh). One row per prior and method (pointless and
 # point-based, the same unknowns): the fraction of the tracks' observations within 4 px of the

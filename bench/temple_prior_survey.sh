@@ -2,7 +2,7 @@
 # Self-calibration from a wrong PINHOLE prior on temple_sparse_ring, over several prior errors:
 # where fx and fy end, their standard deviations from the global BA, the rotation errors.
 # With fx and fy apart (intrinsics.refine_aspect_ratio true, e.g. CONFIG=cfg.json) fx is not
-# observable on this ring (docs/measurement_history.md, issue 14) and its result depends on the solver's path.
+# observable on this ring and its result depends on the solver's path.
 #
 # Usage: bench/temple_prior_survey.sh OUT [FACTOR...]   (default factors 1.08 1.09 1.10 1.11 1.12)
 # Environment: PGBA (default: build/bin/pgba), SHARED (default: ../shared beside the repository),

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 16 item 4, "a thousand photos": renders an aerial block (`pgba synth --render --scene
+# A thousand photos (docs/benchmarks.md): renders an aerial block (`pgba synth --render --scene
 # aerial`: 1024 x 768 photos of a textured town with box buildings, strips with 75% forward
 # and 50% side overlap) and runs `pgba run` on it with retrieval pairs, then prints one
 # table row: images, seconds to render, seconds per stage (report.json), their sum, the wall

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # How far the final rotation errors move with the set of tracks alone: `pgba run --gt` with the
 # front end's verification RANSAC seeded 0..SEEDS-1 (matching.verification.relative_pose.seed),
-# for main's verification (OpenGV-scored RANSAC, 2 fixed refinement passes) and the Sampson-
-# scored one (up to 6 passes until converged), on the same cached features. Every other option
+# for the OpenGV-scored verification (RANSAC, 2 fixed refinement passes; variant "opengv") and
+# the Sampson-scored one (up to 6 passes until converged; variant "sampson", the default), on the same cached features. Every other option
 # is the default (configs/object_ring.json on the *_ring datasets). Per dataset and variant:
 # verified matches, tracks, and the median / max rotation error against the ground truth per
 # seed, then their spread over the seeds; the gauge-free pairwise rotation error of the final

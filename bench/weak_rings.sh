@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 18's table: `pgba run --config CONFIG` on the two Middlebury rings (dino_sparse_ring,
+# Weakly textured objects (docs/benchmarks.md): `pgba run --config CONFIG` on the two Middlebury rings (dino_sparse_ring,
 # weakly textured; temple_sparse_ring, the ring that must not get worse), one row per config
 # and dataset: features per image, adjacent ring pairs kept by the matching stage, weak pairs
 # confirmed / tried (matching.verification.weak_pairs), registered images, rotation error

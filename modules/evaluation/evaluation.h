@@ -34,7 +34,7 @@ struct EvaluationMetrics {
   std::optional<GroundTruthErrors> ground_truth;  // when a GT model was given
   std::optional<LoopClosureResult> loop;          // when loop correspondences were given
 
-  // Flat object with the ARCHITECTURE.md keys (images_input, images_registered, sigma_rms,
+  // Flat object with the keys of docs/formats.md, "Reports" (images_input, images_registered, sigma_rms,
   // sigma_median, inlier_fraction, rot_err_deg_median, rot_err_deg_max,
   // center_err_rel_median, center_err_rel_max, loop_err_rms, loop_err_median); a key is
   // absent when its metric is not computable. Supporting counts go under "details".

@@ -25,7 +25,7 @@ uchar* Allocate(size_t n) {
   const size_t rounded = (n + kHugePage - 1) / kHugePage * kHugePage;
   void* p = std::aligned_alloc(kHugePage, rounded);
   if (p == nullptr) throw std::bad_alloc();
-  madvise(p, rounded, MADV_HUGEPAGE);  // advice only: without THP it is 4 KiB pages as before
+  madvise(p, rounded, MADV_HUGEPAGE);  // advice only: without THP it is 4 KiB pages
   return static_cast<uchar*>(p);
 }
 

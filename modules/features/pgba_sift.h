@@ -1,7 +1,8 @@
 // pgba's own SIFT (features.sift.implementation "pgba"): the algorithm of OpenCV's and
 // VLFeat's SIFT (scale space, DoG extrema, orientations, 4x4x8 descriptors; sift_*.h) with
 // the work inside one image parallel: OpenCV 4.6 blurs its 25 MP upsampled first octave on
-// one thread, which on 2 cores made features 3+ s per 6 MP photo (docs/measurement_history.md, issue 16).
+// one thread. Through the whole pipeline pgba's takes 0.55-0.57x of OpenCV's CPU time on the
+// Strecha photos (bench/front_end_speed.sh, docs/benchmarks.md "Front-end speed").
 // Output in OpenCV's conventions (cv::KeyPoint, float descriptors) so ExtractSift treats
 // both implementations alike; deterministic and independent of the number of threads.
 #pragma once

@@ -1,12 +1,12 @@
 // The residual of one GCP seen in one triplet (paper, "Inclusion of ground control points"):
 //     r_GCP = rho( || P_GCP - d_s^-1(p_GCP) ||^2 ),
 // P_GCP the given coordinates (GCP frame = global frame after the frame transfer of
-// gcp_alignment.h), p_GCP the GCP triangulated in the triplet's local frame from its local
+// gcp/gcp_alignment.h), p_GCP the GCP triangulated in the triplet's local frame from its local
 // poses x0, and d_s^-1 the current local->global similarity of triplet s, i.e. the inverse
 // of the centroid form of motion_similarity.h:
 //     d_s(X)    = lambda alpha (X - G) + beta,
 //     d_s^-1(p) = alpha^T (p - beta) / lambda + G.
-// Whitened by the GCP's sigma and weighted 1 / n (gcp_constraint.h explains the choice); rho
+// Whitened by the GCP's sigma and weighted 1 / n (gcp/gcp_constraint.h explains the choice); rho
 // is a Huber loss at GcpOptions::huber_sigmas. Its only parameter block is the triplet's
 // similarity [beta, theta, lambda]: the GCPs act on the poses through the triplet residuals.
 #pragma once

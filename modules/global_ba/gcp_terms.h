@@ -1,6 +1,6 @@
 // Which GCP residuals the global BA gets: for every used triplet and every GCP observed in
 // at least 2 of its 3 images, the GCP triangulated in the triplet's local frame (from the
-// local BA's poses x0), weighted 1 / (number of triplets of that GCP) (gcp_constraint.h).
+// local BA's poses x0), weighted 1 / (number of triplets of that GCP) (gcp/gcp_constraint.h).
 #pragma once
 
 #include <vector>

@@ -1,11 +1,26 @@
 // The pointless global bundle adjustment (paper section 3, eq. 5) and the Aver_BA baseline
 // (the same relative motions averaged with scalar weights instead of the local Hessians).
 //
-// Unknowns: every global pose (PoseBlock: [C, omega], R = R0 Exp(omega)) and 7 similarity
-// parameters per triplet (motion_similarity.h). Cost: sum_s w_s rho_s(|W_s (x_s - x0_s)|^2)
-// with rho_s Huber and w_s the IRLS weight from the triplet's fitting error. Solved by
-// Ceres (Levenberg-Marquardt, SPARSE_SCHUR, similarity blocks eliminated first) in IRLS
-// rounds; between rounds the weights are recomputed and the rotations re-linearised.
+// Unknowns: every global pose (PoseBlock: [C, omega], R = R0 Exp(omega)), 7 similarity
+// parameters per relative motion (motion_similarity.h) and, with self-calibration, the
+// intrinsic unknowns of each camera. Cost: sum_s w_s rho_s(|W_s (x_s - x0_s - n_s)|^2), with
+// W_s^T W_s = h_s the motion's local Hessian (motion_residual.h).
+//
+// What runs by default (the entry is RelinearizedGlobalBA): the motions are whole-track
+// motions (local_hessian/whole_track_motions.h), so the sum of their h_s is the point-based
+// BA's reduced camera system. The motions carry no robust loss and no IRLS weight (rho_s the
+// identity, w_s = 1: the observations are robustified inside each h_s), so each solve is one
+// Levenberg-Marquardt solve on normal equations assembled motion by motion
+// (motion_normal_equations.h, SolveMotionBlocks), the gauge held by one pose and one centre
+// coordinate. After each solve the local Hessians are re-taken where the solution puts the
+// motions (relinearization.cc) and the step is kept only if the true robust reprojection cost
+// falls: Gauss-Newton on the point-based cost with the points eliminated, until converged.
+//
+// The paper's triplet method (PaperTripletGlobalBAOptions, configs/paper_triplets.json) adds a
+// Huber loss and IRLS reweighting of the motions by their fitting error, solved by Ceres
+// (Levenberg-Marquardt, SPARSE_SCHUR, similarity blocks eliminated first) in IRLS rounds, and
+// re-linearises only when the models disagree with their consensus. GCPs (gcp_residual.h) also
+// take the Ceres path.
 #pragma once
 
 #include <cstdint>
@@ -294,11 +309,13 @@ GlobalBAResult PointlessGlobalBA(const std::map<uint32_t, Pose>& initial_poses, 
                                  const GlobalBAIterationCallback& callback = nullptr, const GcpInput* gcps = nullptr);
 
 // Pointless global BA with re-linearised local models (GlobalBAOptions::
-// max_relinearizations): PointlessGlobalBA; then, if the misfit trigger fires, up to
-// max_relinearizations times: every used triplet's local Hessian recomputed from `tracks`
-// at the local poses the current solution predicts (lh_options with max_iterations = 0),
-// and PointlessGlobalBA again from the current poses. The callback sees one continuous
-// iteration count; the summary adds up iterations, rounds and time over the solves.
+// max_relinearizations): PointlessGlobalBA; then, up to max_relinearizations times, every
+// used motion's local Hessian re-taken from `tracks` at the local poses the current solution
+// predicts (lh_options with max_iterations = 0) and PointlessGlobalBA again from the current
+// poses. With relinearize_checked (the default) each step is kept only if the true robust
+// reprojection cost falls, and the passes stop by the rule of GlobalBAOptions; without it
+// (the paper's method) a pass runs only when the misfit trigger fires. The callback sees one
+// continuous iteration count; the summary adds up iterations, rounds and time over the solves.
 // `hessians` are taken by value and re-taken in place, one model per motion: a caller that no
 // longer needs them moves them in (the largest memory of a large block), others copy.
 GlobalBAResult RelinearizedGlobalBA(const Reconstruction& tracks, const LocalHessianOptions& lh_options,

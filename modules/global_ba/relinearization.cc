@@ -97,7 +97,7 @@ GlobalBAIterationCallback Shifted(const GlobalBAIterationCallback& callback, int
 // A re-linearised solve from `poses`, its iterations counted on after those in `total` (the
 // callback sees one continuous count) and added to it. It starts from the trust region the
 // previous solve ended with: the re-taken models differ little from the old ones near the
-// solution, and restarting at initial_trust_region_radius damped the weak directions again
+// solution, and restarting at initial_trust_region_radius damps the weak directions again
 // (long-focal loop seed 1, the last solve: 12 iterations from 1e8, 4 from the carried 3.5e10).
 // A carried radius can leave a weak direction undamped enough that the first pose system is
 // not positive definite (self-calibrating planar:4, focal 1535 -> 1380 px in one pass, carried

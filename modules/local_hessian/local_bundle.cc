@@ -164,7 +164,7 @@ LocalHessianStatus BuildLocalBundleProblem(const Reconstruction& tracks, const L
   // View of each image in the motion, as (image id, view) sorted by id; an image twice is
   // invalid. A sorted vector and buffers reused across tracks: this loop runs over every
   // track element of every motion in each local Hessian pass (with a std::map and per-track
-  // vectors it was a fifth of the problem's construction, triangulation included).
+  // vectors it would be a fifth of the problem's construction, triangulation included).
   std::vector<std::pair<uint32_t, int>> view_of_image(n);
   for (int k = 0; k < n; ++k) view_of_image[k] = {motion.image_ids[k], k};
   std::sort(view_of_image.begin(), view_of_image.end());

@@ -1,8 +1,15 @@
 // Local Hessians of the relative motions (paper section 3, "Local bundle adjustment"): per
-// motion of N views (the paper's triplets: N = 3) a bundle adjustment in the motion's own
-// frame over its N poses and its points, then the 6N x 6N camera reduced matrix h (Schur
-// complement on the points, paper eq. 3; 18x18 for a triplet) and its eigen decomposition
-// h = V^T D^2 V (paper eq. 5), which the pointless global BA consumes.
+// motion of N views, the bundle problem in the motion's own frame over its N poses and its
+// points, then the 6N x 6N camera reduced matrix h (Schur complement on the points, paper
+// eq. 3; 18x18 for a triplet) and its factor W with W^T W = h (paper eq. 5), which the
+// pointless global BA consumes.
+//
+// By default (whole-track motions, whole_track_motions.h) h is taken at the given poses: the
+// points triangulated from them, no local BA iteration, every observation of weight 1, h
+// factored by LDLT; the global BA's re-linearisation then re-takes it where its solution puts
+// the motion. The paper's triplets (PaperTripletLocalHessianOptions) run one local BA
+// iteration from the triplet BA's solution with attenuated observations and eigen-decompose
+// h = V^T D^2 V.
 //
 // Chart (ARCHITECTURE.md): per view the 6-vector [c(3), omega(3)] with r = r0 * Exp(omega)
 // around the local BA's solution x0 = {r0_k, c0_k}; h is ordered view 0, 1, ..., N-1 of

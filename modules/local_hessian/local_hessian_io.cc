@@ -180,12 +180,12 @@ LocalHessianResult ReadLocalHessians(const fs::path& path, const Reconstruction&
       lh.num_points = static_cast<int>(reader.Integer(reader.Field(e, "num_points", where), where));
       lh.num_observations = static_cast<int>(reader.Integer(reader.Field(e, "num_observations", where), where));
       lh.rms_px = reader.Number(reader.Field(e, "rms_px", where), where);
-      // Optional (files written before it existed: unknown, so the first re-linearised step
-      // of a checked re-linearisation is taken unchecked).
+      // Optional (absent: unknown, so the first re-linearised step of a checked
+      // re-linearisation is taken unchecked).
       lh.robust_cost = e.contains("robust_cost") ? reader.Number(e["robust_cost"], where + ".robust_cost")
                                                  : std::numeric_limits<double>::quiet_NaN();
       lh.eigenvalue_ratio = reader.Number(reader.Field(e, "eigenvalue_ratio", where), where);
-      // Optional (files written before it existed: 0, the paper's eq. 5 without gradient).
+      // Optional (absent: 0, the paper's eq. 5 without gradient).
       lh.newton_step = e.contains("newton_step") ? reader.Numbers(e["newton_step"], dim, where + ".newton_step")
                                                  : Eigen::VectorXd::Zero(dim);
       // Optional (absent: the next re-linearisation triangulates from scratch).

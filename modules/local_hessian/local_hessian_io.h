@@ -6,8 +6,8 @@
 //      "local_poses": [{"q": [w, x, y, z], "t": [3]} x N], "h": [36 N^2, row-major],
 //      "observation_weight": X, "depth_scale": X, "prior_mu": X, "num_points": M,
 //      "num_observations": M, "rms_px": X, "eigenvalue_ratio": X, "newton_step": [6N]}, ...]}
-// N = 3 for the triplets (h 18x18). "triplet_index" is read as "motion_index" (files of
-// versions that only had triplets).
+// N = 3 for the triplets (h 18x18). "triplet_index" is read as "motion_index" (the key of
+// files that hold triplets only).
 // Entries that are not ok keep only index, images and status. V and D are recomputed from h
 // on reading (paper eq. 5), so the file cannot hold an inconsistent decomposition; the prior
 // and the reduced gradient are not stored (newton_step = -h^-1 g is; optional on reading).

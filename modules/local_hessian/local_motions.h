@@ -1,13 +1,18 @@
-// Which relative motions the local Hessian stage models. The paper's are the triplets of the
-// initialisation (N = 3). Its equations 1-5 hold for motions of any N views, and longer
-// motions keep information that triplets lose: a triplet triangulates each point from its
-// three views, so the long tracks of a narrow-field sequence (tracks over 10-30 images,
-// where the wide angles are) are cut into short, nearly parallel-ray pieces. Measured on
-// the longfocal synthetic loops (`pgba benchmark --triplet-split` runs the point-based BA
-// over exactly the pieces a motion set sees): the cut pieces, not the quadratic models of
-// the local Hessians, are what the pointless BA loses against the point-based BA.
+// Which relative motions the local Hessian stage models (local_motions.kind):
+//   whole_tracks  the default: every track lies whole in exactly one motion
+//                 (whole_track_motions.h), so that the sum of the local Hessians is the
+//                 point-based BA's reduced camera system; h taken at the given poses.
+//   triplets      the paper's: the triplets of the initialisation (N = 3).
+//   neighbours    one motion of N views per registered image.
+// The paper's equations 1-5 hold for motions of any N views, and longer motions keep
+// information that triplets lose: a triplet triangulates each point from its three views, so
+// the long tracks of a narrow-field sequence (tracks over 10-30 images, where the wide angles
+// are) are cut into short, nearly parallel-ray pieces. Measured on the longfocal synthetic
+// loops (`pgba benchmark --triplet-split` runs the point-based BA over exactly the pieces a
+// motion set sees): the cut pieces, not the quadratic models of the local Hessians, are what
+// the pointless BA loses against the point-based BA.
 //
-// N > 3 gives one motion per registered image and stride s (neighbour_strides): the image
+// neighbours: one motion per registered image and stride s (neighbour_strides): the image
 // with N - 1 of its neighbours ranked by shared tracks, every s-th of them (s = 1: the
 // nearest; s = 3: a motion spread three times as far along the tracks). The motion starts
 // from given global poses, in their frame; its own local BA converges it

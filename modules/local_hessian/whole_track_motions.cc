@@ -10,8 +10,8 @@ namespace pgba {
 namespace {
 
 // Images are numbered 0..M-1 in id order (the order of `poses`), so that the selection runs on
-// flat arrays: with std::map / std::set per motion it was a quarter of the pointless BA's
-// preparation. Every tie below breaks by that index, i.e. by image id.
+// flat arrays: with std::map / std::set per motion it would be a quarter of the pointless
+// BA's preparation. Every tie below breaks by that index, i.e. by image id.
 struct TrackViews {
   uint64_t track_id = 0;
   std::vector<uint32_t> views;  // indices of the posed images seeing the track, ascending, each once

@@ -1,4 +1,4 @@
-// The PointlessMapper's artefacts on disk (ARCHITECTURE.md, "Workspace"): what each step
+// The PointlessMapper's artefacts on disk (docs/formats.md, "The workspace"): what each step
 // writes, and the reading back that lets a re-run start after them.
 //   steps 1-4: pairs.json, triplets.json (kept triplets with their similarities), init/
 //   step 5:    motions.json (the relative motions as linearised), local_hessians.json

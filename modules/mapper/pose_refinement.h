@@ -1,7 +1,8 @@
 // The final adjustment of the initial global solution (paper steps 3 and 4; PointlessMapper
-// step 7): local Hessian BA per relative motion (section 3, eqs. 1-3: the triplets, or motions
-// of N views, local_motions.h), then the pointless global BA weighted by the 6N x 6N reduced
-// camera matrices (eq. 5; 18x18 per triplet), re-linearised at its solution. Its options (the
+// steps 5 and 7): the local Hessians of the relative motions (section 3, eqs. 1-3; by default
+// whole-track motions taken at the initial poses, local_motions.h), then the pointless global
+// BA weighted by their (6N + K) x (6N + K) reduced camera matrices (eq. 5), re-linearised at
+// its solution until the true reprojection cost has converged (global_ba.h). Its options (the
 // config sections of the refinement, the point-based baseline's included, so that one preset
 // serves `reconstruct` and `benchmark`) and its result; the baselines `pgba benchmark`
 // compares it with are benchmark/baselines.h.

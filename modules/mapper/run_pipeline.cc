@@ -74,8 +74,8 @@ void WithCatalogCameras(const FeatureExtractionResult& features, Reconstruction*
   if (same_ids) tracks->cameras = features.index.cameras;
 }
 
-// The front end's verified geometries the view graph starts from; none for a workspace from
-// before they were kept.
+// The front end's verified geometries the view graph starts from; none for a workspace whose
+// matching/ holds none.
 using FrontEndGeometries = std::optional<std::vector<TwoViewGeometry>>;
 
 // The tracks (into `tracks`) and their verified geometries, matched or from the workspace.

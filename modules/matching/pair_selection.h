@@ -7,9 +7,9 @@
 //               descriptor (vlad_retrieval.h): for large unordered sets, between
 //               n * neighbors / 2 and n * neighbors pairs (a pair both images chose counts
 //               once) instead of n^2 / 2, so matching grows linearly with n. Measured on
-//               rendered aerial blocks (tests/matching/vlad_retrieval_test.cc, docs/measurement_history.md "A
-//               thousand photos"): neighbors 10 finds every pair whose footprints overlap
-//               by >= 50%.
+//               rendered aerial blocks (tests/matching/vlad_retrieval_test.cc;
+//               bench/thousand_photos.sh, docs/benchmarks.md "A thousand photos"):
+//               neighbors 10 finds every pair whose footprints overlap by >= 50%.
 #pragma once
 
 #include <cstdint>

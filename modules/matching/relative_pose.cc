@@ -237,15 +237,15 @@ void CheckInputs(const std::vector<Eigen::Vector3d>& bearings1, const std::vecto
 
 // RefineRelativePose from a pose fitted to other correspondences of the pair (the front
 // end's, on its matches). Measured on a synthetic orbit from the truth disturbed by 0.1 deg
-// (view_graph_test.cc): refined on the inliers under the threshold alone, 106 of 387 pairs
+// (tests/triplets/pair_estimation_test.cc): refined on the inliers under the threshold alone, 106 of 387 pairs
 // lost their consensus; after a first pass on those of 4x the threshold one did. That pass
 // runs only when the threshold sees less than kRefineStartWellPlaced of the wide inliers (a
 // front-end pose on the same features nearly always does). Then up to kRefineStartMaxPasses
 // refine + re-classify passes, stopping early once a pass leaves the inliers unchanged and
-// turns the rotation by less than kRefineConvergedDeg. One pass, measured (docs/measurement_history.md "Measured:
-// front-end speed (issue 16)"): the Sampson refinement, not RANSAC, is most of a pair's cost
+// turns the rotation by less than kRefineConvergedDeg. One pass, measured by
+// bench/reuse_geometry.sh: the Sampson refinement, not RANSAC, is most of a pair's cost
 // (150-image aerial block: pairs stage 7.5 s estimated, 6.5 s refined, 1.7 s reused; 4
-// passes took longer than RANSAC), and the final poses on the Strecha sets moved by at most
+// passes take longer than RANSAC), and the final poses on the Strecha sets move by at most
 // 6e-5 deg against the estimated pairs'. On the disturbed synthetic starts 4 passes reach
 // RANSAC's 90th percentile of the rotation errors (0.205 deg), one 0.211 deg.
 constexpr double kRefineStartThresholdFactor = 4.0;

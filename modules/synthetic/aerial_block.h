@@ -1,6 +1,7 @@
 // A rendered aerial block: photographs of a large textured ground with buildings, taken by
 // a nadir (slightly tilted) camera flown in serpentine strips, with exact ground truth; the
-// scale test of the image pipeline (issue 16: a thousand photos through `pgba run`).
+// scale test of the image pipeline (a thousand photos through `pgba run`:
+// bench/thousand_photos.sh).
 //
 // Geometry: flat ground z = 0 cut into 64 m tiles, each with its own procedural texture
 // (procedural_texture.h), and box buildings (4-15 m high, textured walls and roofs, ~1.5

@@ -1,6 +1,6 @@
 // Calibrated absolute pose of one view from 2D-3D correspondences: OpenGV's P3P (Kneip)
 // or EPnP inside OpenGV's RANSAC (seeded), then OpenGV's nonlinear refinement on the
-// inliers. Used to place the third view of a triplet on points triangulated from the
+// inliers. It places the third view of a triplet on points triangulated from the
 // first two, which gives the triplet one consistent scale.
 #pragma once
 

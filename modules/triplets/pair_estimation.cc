@@ -205,7 +205,7 @@ std::vector<TwoViewGeometry> EstimatePairs(const Reconstruction& tracks, const P
   stats.images = static_cast<int>(tracks.images.size());
   const std::map<uint64_t, int> counts = index.CountSharedTracks();
   stats.pairs_sharing_tracks = static_cast<int>(counts.size());
-  // "estimate" ignores the front end altogether (today's tracks-only behaviour).
+  // "estimate" ignores the front end altogether (the view graph of a tracks model alone).
   const bool use_front_end = front_end && options.front_end != "estimate";
   const std::map<uint64_t, TwoViewGeometry> verified = use_front_end ? ByPairKey(*front_end) : decltype(verified){};
   const std::vector<Candidate> candidates =

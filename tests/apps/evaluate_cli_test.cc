@@ -146,8 +146,8 @@ TEST_F(EvaluateCli, BadInputsExitTwoNamingTheFile) {
   EXPECT_FALSE(fs::exists(earlier));
 }
 
-// A ground truth with no image in common used to exit 0 with "0 compared", errors over no
-// image that read like a perfect score.
+// A ground truth with no image in common is an error: exit 0 with "0 compared" would give
+// errors over no image that read like a perfect score.
 TEST_F(EvaluateCli, GroundTruthWithNoImageInCommonIsAnError) {
   Reconstruction renamed = scene_.gt;
   for (auto& [id, im] : renamed.images) im.name = "other_" + im.name;

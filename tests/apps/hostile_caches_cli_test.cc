@@ -16,7 +16,7 @@ using pgba::test::Lines;
 
 class HostileCachesCli : public pgba::test::HostileCli {};
 
-// Silent wrong answer: a bit-flipped feature cache file was used. Now the run goes on: a
+// A bit-flipped feature cache file is not used (a silent wrong answer): the run goes on, a
 // warning names the file and its features are recomputed (same bytes as the first run).
 TEST_F(HostileCachesCli, BitFlippedFeatureCacheIsRecomputedWithAWarning) {
   const fs::path images = Photos("flip_images"), ws = dir_ / "flip_ws";
@@ -39,7 +39,7 @@ TEST_F(HostileCachesCli, BitFlippedFeatureCacheIsRecomputedWithAWarning) {
 }
 
 // Caches keyed on content: a photo replaced by another of the same size with the same
-// modification time (cp -p) reused the old features.
+// modification time (cp -p) gets its features computed again, not the cached ones.
 TEST_F(HostileCachesCli, FeatureCacheIsKeyedOnThePhotosBytes) {
   const fs::path images = Photos("cache_src");
   const fs::path ws = dir_ / "cache_ws";
@@ -60,9 +60,9 @@ TEST_F(HostileCachesCli, FeatureCacheIsKeyedOnThePhotosBytes) {
   EXPECT_NE(Bytes(cache), before);
 }
 
-// The tracks cache was keyed on names and feature counts: two photos swapped under their
-// names (each image capped at the same feature count) reused the old tracks. Its key holds
-// the feature files' checksums now, which hold the photos' hashes.
+// The tracks cache is keyed on the feature files' checksums, which hold the photos' hashes:
+// two photos swapped under their names (each image capped at the same feature count, so that
+// names and feature counts alone would match) get their tracks computed again.
 TEST_F(HostileCachesCli, TracksCacheIsKeyedOnThePhotosContent) {
   const fs::path images = Photos("tracks_cache_src"), out = dir_ / "tracks_cache_out";
   const fs::path config = dir_ / "tracks_cache.json";

@@ -60,8 +60,8 @@ TEST_F(HostileMessagesCli, ErrorsNameTheFileAndTheProblem) {
                      "--threads", "a global option, placed before the command");
 }
 
-// Usage errors were two lines (CLI11's message, then a hint to run --help): one line now,
-// the problem first and where the usage is after it, for every command.
+// A usage error is one line (not CLI11's message followed by a hint to run --help): the
+// problem first and where the usage is after it, for every command.
 TEST_F(HostileMessagesCli, UsageErrorsAreOneLine) {
   struct Case {
     std::string args, problem, hint;
@@ -99,9 +99,9 @@ TEST_F(HostileMessagesCli, ALineBreakInAPathStaysOnTheErrorLine) {
   EXPECT_FALSE(fs::exists(dir_ / "nl_ws" / "features"));
 }
 
-// A stage's finding about the tracks named no file ("tracks: no image pair could be verified
-// (too few shared tracks?)"): it names the tracks model's images.txt now, in the error line
-// and in report.json, for every command that reconstructs from a tracks model.
+// A stage's finding about the tracks ("tracks: no image pair could be verified (too few
+// shared tracks?)") names the tracks model's images.txt, in the error line and in
+// report.json, for every command that reconstructs from a tracks model.
 TEST_F(HostileMessagesCli, AStagesFindingAboutTheTracksNamesTheTracksFile) {
   const fs::path sparse = dir_ / "sparse_scene";
   ASSERT_EQ(Run("synth --scenario orbit --images 20 --points 500 --out " + sparse.string()).code, 0);

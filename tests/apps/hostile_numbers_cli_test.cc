@@ -105,9 +105,9 @@ TEST_F(HostileNumbersCli, NumericFlagsAreHeldToTheirConfigRange) {
   EXPECT_FALSE(fs::exists(dir_ / "flags_ws"));
 }
 
-// Crash found by libFuzzer (fuzz_gcp_file): a line of whitespace the tokenizer splits on but
-// the blank-line test did not know ("\r\r") reached the GCP parser with no token, which
-// indexed it: SIGSEGV in reconstruct --gcp. Such a line is blank now.
+// A line of whitespace the tokenizer splits on ("\r\r", found by libFuzzer in
+// fuzz_gcp_file) is a blank line: handed to the GCP parser with no token, it would be indexed
+// past its end (SIGSEGV in reconstruct --gcp).
 TEST_F(HostileNumbersCli, WhitespaceOnlyLineInGcpFile) {
   const fs::path gcp = dir_ / "gcp.txt";
   std::ofstream(gcp, std::ios::binary) << "\r\r\n\v\f\nGCP g 1 2 3 oops\n";
@@ -117,8 +117,8 @@ TEST_F(HostileNumbersCli, WhitespaceOnlyLineInGcpFile) {
   EXPECT_FALSE(fs::exists(dir_ / "gcp_out" / "sparse"));
 }
 
-// Non-finite numbers: NaN options ran ("inlier fraction 0.0000"), NaN keypoints of a database
-// went into tracks/.
+// Non-finite numbers are refused: a NaN option (which would run and print "inlier fraction
+// 0.0000") and NaN keypoints of a database (which would go into tracks/).
 TEST_F(HostileNumbersCli, NonFiniteNumbersAreRefused) {
   const std::string tracks = " --tracks " + (dir_ / "scene" / "input").string();
   for (const std::string& value : {std::string("nan"), std::string("inf"), std::string("NaN")}) {
@@ -202,9 +202,9 @@ TEST_F(HostileNumbersCli, ConvertersValidateWhatTheyWrite) {
                      "cannot access");
 }
 
-// Unsigned options read "-5" as 2^64 - 5 and 10^23 as 2^64 - 1 (a benchmark's seed), and
-// CLI11's positive-number check printed the largest double in 300 digits: each is one short
-// line naming the option and the value now.
+// Unsigned options out of their type or sign ("-5", which would read as 2^64 - 5; 10^23 as a
+// benchmark's seed, 2^64 - 1; values CLI11's positive-number check would print as the largest
+// double in 300 digits): each is one short line naming the option and the value.
 TEST_F(HostileNumbersCli, OptionsOutOfTheirTypeOrSignAreRefused) {
   struct Case {
     std::string args, message;

@@ -121,9 +121,9 @@ TEST_F(HostilePathsCli, EmptyOutIsAnError) {
   ExpectOneLineError(Run("synth --scenario orbit --out ''"), "--out", "is empty");
 }
 
-// Stale outputs: a failed re-run of match or features left the earlier tracks/ or
-// features/images.json, and a reconstruct refused at its options the earlier report.json
-// with status ok; staging left by a killed process stayed forever.
+// Stale outputs: a failed re-run of match or features leaves no earlier tracks/ or
+// features/images.json, a reconstruct refused at its options no earlier report.json with
+// status ok, and the staging left by a killed process is removed by the next run.
 TEST_F(HostilePathsCli, FailedReRunsLeaveNothingThatReadsAsTheirResult) {
   const fs::path images = Photos("stale_src"), ws = dir_ / "stale_ws";
   ASSERT_EQ(Run("features --images " + images.string() + " --out " + ws.string()).code, 0);

@@ -96,9 +96,9 @@ TEST_F(ReconstructCli, ForeignOrIncompleteWorkspaceIsAnErrorNamingTheFile) {
   EXPECT_FALSE(fs::exists(dir_ / "x" / "sparse"));
 }
 
-// The reported case: the workspace of another scene whose images have the same names went
-// through (exit 0, 4 of 70 images, 22 degrees). The fingerprint of the inputs refuses it, and
-// so it does a workspace initialised with other options or without a fingerprint.
+// The workspace of another scene whose images have the same names (without a check: exit 0,
+// 4 of 70 images, 22 degrees). The fingerprint of the inputs refuses it, and so it does a
+// workspace initialised with other options or without a fingerprint.
 TEST_F(ReconstructCli, WorkspaceOfOtherSceneSameNamesOrOtherOptionsIsRefused) {
   const fs::path twin = dir_ / "twin";
   ASSERT_EQ(Run("synth --scenario aerial --images 24 --seed 4 --noise 0.5 --out " + twin.string()).code, 0);

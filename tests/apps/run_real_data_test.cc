@@ -1,5 +1,5 @@
-// `pgba run` end to end on real photographs with ground truth (shared/datasets), the
-// acceptance of issue 6 on the dataset where the view graph is weakest: temple_sparse_ring,
+// `pgba run` end to end on real photographs with ground truth (shared/datasets), on the
+// dataset where the view graph is weakest: temple_sparse_ring,
 // a 360 degree Middlebury ring whose 43 degree gap (templeSR0014 - templeSR0002) leaves no
 // match, so the ring is an open chain, and two of whose hinges (templeSR0005, templeSR0009)
 // are shared by no verified triangle: only open triplets hold it together. Every image must
@@ -15,12 +15,13 @@
 #include <nlohmann/json.hpp>
 
 #include "tests/apps/cli_runner.h"
+#include "tests/support/shared_data.h"
 
 namespace {
 namespace fs = std::filesystem;
 
 // `pgba run --config configs/object_ring.json --gt` on a shared dataset into a fresh OUT;
-// its report.json (null when the dataset is missing: the test skips).
+// its report.json (null when the dataset is missing).
 nlohmann::json RunObjectRing(const std::string& dataset, const fs::path& out) {
   const fs::path data = fs::path(PGBA_SHARED_DIR) / "datasets" / dataset;
   if (!fs::exists(data / "images")) return nullptr;
@@ -36,7 +37,7 @@ nlohmann::json RunObjectRing(const std::string& dataset, const fs::path& out) {
 TEST(RunRealData, TempleSparseRingEveryImageRegistered) {
   const fs::path out = fs::temp_directory_path() / ("pgba_run_temple_" + std::to_string(::getpid()));
   const nlohmann::json report = RunObjectRing("temple_sparse_ring", out);
-  if (report.is_null()) GTEST_SKIP() << "temple_sparse_ring missing";
+  PGBA_NEED_SHARED_DATA(!report.is_null(), "temple_sparse_ring");
   ASSERT_EQ(report.value("status", ""), "ok");
   const nlohmann::json& e = report["evaluation"];
   std::cout << "temple_sparse_ring: " << e["images_registered"] << "/16 registered, rotation error median "
@@ -49,18 +50,18 @@ TEST(RunRealData, TempleSparseRingEveryImageRegistered) {
   fs::remove_all(out);
 }
 
-// Issue 18 on dino_sparse_ring (weakly textured plaster, ~230 SIFT features per image at the
-// fixed threshold, nothing registered before): the object_ring preset's adaptive contrast
+// dino_sparse_ring (weakly textured plaster, ~230 SIFT features per image at the fixed
+// threshold, where COLMAP registers nothing): the object_ring preset's adaptive contrast
 // threshold lowers the threshold of every image, weak pairs confirmed by a third view (and
 // kept as a chain end's only link) connect more images, the registered images (6 measured,
-// 4 without the weak pairs; docs/measurement_history.md "Weakly textured objects" says why not all 16) are
+// 4 without the weak pairs; docs/benchmarks.md "Weakly textured objects" says why not all 16) are
 // within 0.33 deg of the ground truth (the point-based BA's optimum on these tracks, where the
 // converged pointless BA ends: max 0.326 deg), and report.html shows the adapted images and the view
 // graph, drawn and in words.
 TEST(RunRealData, DinoSparseRingAdaptiveContrastRegistersAccurately) {
   const fs::path out = fs::temp_directory_path() / ("pgba_run_dino_" + std::to_string(::getpid()));
   const nlohmann::json report = RunObjectRing("dino_sparse_ring", out);
-  if (report.is_null()) GTEST_SKIP() << "dino_sparse_ring missing";
+  PGBA_NEED_SHARED_DATA(!report.is_null(), "dino_sparse_ring");
   ASSERT_EQ(report.value("status", ""), "ok");
   const nlohmann::json& e = report["evaluation"];
   const nlohmann::json& f = report["stages"]["features"];
@@ -103,7 +104,7 @@ TEST(RunRealData, DinoSparseRingAdaptiveContrastRegistersAccurately) {
 // bundle adjustment does; relative errors, as three centres leave a similarity ill-posed.
 TEST(RunRealData, DinoSparseRingDefaultConfigStartsAgainFromTheTripletsWhenStuck) {
   const fs::path data = fs::path(PGBA_SHARED_DIR) / "datasets" / "dino_sparse_ring";
-  ASSERT_TRUE(fs::exists(data / "images")) << data << " missing";
+  PGBA_NEED_SHARED_DATA(fs::exists(data / "images"), data.string());
   const fs::path out = fs::temp_directory_path() / ("pgba_run_dino_default_" + std::to_string(::getpid()));
   fs::remove_all(out);
   const pgba::test::CliResult r = pgba::test::RunPgba(
@@ -125,7 +126,7 @@ TEST(RunRealData, DinoSparseRingDefaultConfigStartsAgainFromTheTripletsWhenStuck
 TEST(RunRealData, DinoSparseRingEveryConnectedPartIsAModel) {
   const fs::path out = fs::temp_directory_path() / ("pgba_run_dino_models_" + std::to_string(::getpid()));
   const nlohmann::json report = RunObjectRing("dino_sparse_ring", out);
-  if (report.is_null()) GTEST_SKIP() << "dino_sparse_ring missing";
+  PGBA_NEED_SHARED_DATA(!report.is_null(), "dino_sparse_ring");
   ASSERT_EQ(report.value("status", ""), "ok");
   // The images of the front end's verified pairs.
   std::set<std::string> paired;

@@ -62,7 +62,7 @@ TEST_P(BenchmarkOnScene, PaperTripletsReachPointBasedSigmaWithFarFewerUnknowns) 
   ASSERT_TRUE(pb.metrics.sigma.Computable());
   ASSERT_TRUE(av.metrics.sigma.Computable());
   EXPECT_EQ(pl.refinement.poses.size(), scene.gt.images.size());
-  // Measured (seed 7): sigma 1.0091x (orbit), 1.0032x (aerial): the bar is 1.02x.
+  // Measured (seed 7): sigma 1.0091x (orbit), 1.0032x (aerial): the bar is 1.02x.
   EXPECT_LE(pl.metrics.sigma.rms, 1.02 * pb.metrics.sigma.rms);
   EXPECT_LE(4 * pl.refinement.num_params, pb.refinement.num_params);
   EXPECT_LT(pl.metrics.sigma.rms, r.init_metrics.sigma.rms);
@@ -72,7 +72,7 @@ TEST_P(BenchmarkOnScene, PaperTripletsReachPointBasedSigmaWithFarFewerUnknowns) 
   EXPECT_LE(pl.metrics.ground_truth->rot_err_deg_median, 1.03 * r.init_metrics.ground_truth->rot_err_deg_median);
 
   // Records: one sigma per iteration plus the start, starting at sigma_init, ending at the
-  // final sigma; the JSON carries the ARCHITECTURE.md keys.
+  // final sigma; the JSON carries the keys of docs/formats.md, "Reports".
   for (const MethodOutcome* m : {&pl, &pb, &av}) {
     ASSERT_EQ(m->convergence.size(), static_cast<size_t>(m->refinement.iterations) + 1)
         << RefinementMethodName(m->method);
@@ -201,12 +201,11 @@ TEST(SvgPlot, LogScaleSkipsNonPositiveValuesAndNamesEverySeries) {
 }
 
 
-// The long-focal loop of the README table (93 telephoto views, seed 1; tracks over 10-30 of
-// them) with the paper's weighting over motions of 7 views (local_motions.kind neighbours,
-// the long-focal preset until session 19, when the default's whole-track motions measured
-// better) against the paper's triplets, on one initialisation: the motions meet the loop bar
-// there (loop 1.30x point-based, sigma 1.005: README Table 1) and cut the triplets' rotation
-// error to a third.
+// The long-focal loop of docs/benchmarks.md (93 telephoto views, seed 1; tracks over 10-30 of
+// them) with the paper's weighting over motions of 7 views (local_motions.kind neighbours; the
+// default's whole-track motions do better still) against the paper's triplets, on one
+// initialisation: the motions meet the loop bar there (loop 1.30x point-based, sigma 1.005:
+// Table 1 of docs/benchmarks.md) and cut the triplets' rotation error to a third.
 TEST(LongFocalMotions, SevenViewMotionsMeetTheLoopBar) {
   const SyntheticScene scene = test::AcceptanceScene(SyntheticScenario::kLongFocal, 0, /*seed=*/1);
   BenchmarkOptions options;

@@ -1,4 +1,4 @@
-// Issue 14's bad input, from the built binary: a calibration file that fixes a camera model
+// Bad calibrations, from the built binary: a calibration file that fixes a camera model
 // pgba cannot refine (COLMAP's fisheye and full OpenCV models: no projection of theirs is
 // implemented, so neither held nor refined), as cameras.txt and as JSON, or whose distortion
 // is not invertible over the image (also when the file is only a prior, --calib-prior), ends

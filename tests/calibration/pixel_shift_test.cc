@@ -1,7 +1,7 @@
 // MaxPixelShift against closed forms: no change moves nothing; a focal scaled by s moves a
 // pixel at distance r from the principal point by (s - 1) r, most at the farthest corner; a
 // radial k1 added to a distortion-free lens moves the corner by r |k1| (r / f)^2; a pixel without
-// a ray in the old lens (distortion folded over the image) gives infinity, not a number.
+// a ray in the `from` lens (distortion folded over the image) gives infinity, not a number.
 #include "modules/calibration/pixel_shift.h"
 
 #include <gtest/gtest.h>

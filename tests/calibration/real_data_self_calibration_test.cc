@@ -1,5 +1,5 @@
-// Self-calibration end to end on real photographs (issue 14's real acceptance, reduced to run
-// in about a minute): herzjesu_p8 (Strecha et al. 2008, 8 DSLR photos without EXIF, ground
+// Self-calibration end to end on real photographs (bench/real_self_calibration.sh reduced to
+// run in about a minute): herzjesu_p8 (Strecha et al. 2008, 8 DSLR photos without EXIF, ground
 // truth poses and a lab calibration), SIFT on a faster setting (config below), three `pgba
 // run`s sharing one feature cache:
 //   calibrated  --calib D/cameras.txt (held): the reference;
@@ -13,7 +13,7 @@
 // uncalibrated focal -0.14%, rot err 0.0585 (0.53x), rel 0.0446 (1.96x) with the principal
 // point estimated (0.497 and 0.106 with it held at the image centre, below). The
 // relative ratio of the prior is that of the dataset's calibration freed from its own values
-// (docs/measurement_history.md: the data's self-calibration floor), so the tolerances sit just above the measure.
+// (the data's self-calibration floor), so the tolerances sit just above the measure.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -26,6 +26,7 @@
 
 #include "pgba/io/colmap_text.h"
 #include "tests/apps/cli_runner.h"
+#include "tests/support/shared_data.h"
 
 namespace {
 namespace fs = std::filesystem;
@@ -47,7 +48,7 @@ constexpr double kPriorRelRatio = 2.0;  // measured 1.82
 
 class RealDataSelfCalibration : public ::testing::Test {
  protected:
-  // The dataset NAME of the shared folder; false (the test skips) when it is missing.
+  // The dataset NAME of the shared folder; false when it is missing.
   bool Use(const std::string& name) {
     data_ = fs::path(PGBA_SHARED_DIR) / "datasets" / name;
     if (!fs::exists(data_ / "images") || !fs::exists(data_ / "gt")) return false;
@@ -103,7 +104,7 @@ class RealDataSelfCalibration : public ::testing::Test {
 };
 
 TEST_F(RealDataSelfCalibration, HerzJesuWithoutCalibrationAndWithAWrongFocalPrior) {
-  if (!Use("herzjesu_p8")) GTEST_SKIP() << "dataset missing: " << data_;
+  PGBA_NEED_SHARED_DATA(Use("herzjesu_p8"), data_.string());
   const nlohmann::json cal = Run("calibrated", "--calib " + (data_ / "cameras.txt").string());
   WriteLongFocalCalibration();
   const nlohmann::json prior = Run("prior", "--calib " + (dir_ / "cameras_long.txt").string() + " --calib-prior");
@@ -123,20 +124,20 @@ TEST_F(RealDataSelfCalibration, HerzJesuWithoutCalibrationAndWithAWrongFocalPrio
   EXPECT_EQ(uncal["stages"]["features"]["calibration_source"], "default-prior");  // no EXIF, no file
   for (const nlohmann::json* e : {&ec, &ep, &eu}) EXPECT_EQ((*e)["images_registered"], 8);
 
-  // Issue 14's focal bar: within 1% of the dataset's calibration.
+  // The focal within 1% of the dataset's calibration.
   EXPECT_LT(std::abs(FocalError("prior")), 0.01);
   EXPECT_LT(std::abs(FocalError("uncalibrated")), 0.01);
 
   const double cal_rot = ec["rot_err_deg_median"], cal_rel = ec["rel_rot_err_deg_median"];
-  // The 10% prior refined: issue 14's 1.3x on the Sim(3)-aligned rotations; the gauge-free
+  // The 10% prior refined: within 1.3x of the calibrated Sim(3)-aligned rotations; the gauge-free
   // relative rotations within kPriorRelRatio (measured below).
   EXPECT_LT(ep["rot_err_deg_median"].get<double>(), 1.3 * cal_rot);
   EXPECT_LT(ep["rel_rot_err_deg_median"].get<double>(), kPriorRelRatio * cal_rel);
   // Uncalibrated, the principal point is estimated too (intrinsics.
   // refine_principal_point_without_calibration): the dataset's is 23 px from the image centre
-  // (0.48 deg at f 2760), which held at the centre put every rotation off by that angle (rot
-  // err 0.497 deg, rel 0.106 before). Measured with it: rot err 0.0585 deg (0.53x), rel 0.0446
-  // (1.96x, the floor of the data's self-calibration, as with the prior above).
+  // (0.48 deg at f 2760), which held at the centre puts every rotation off by that angle (rot
+  // err 0.497 deg, rel 0.106). Measured with it estimated: rot err 0.0585 deg (0.53x), rel
+  // 0.0446 (1.96x, the floor of the data's self-calibration, as with the prior above).
   EXPECT_LT(eu["rot_err_deg_median"].get<double>(), 1.3 * cal_rot);
   EXPECT_LT(eu["rel_rot_err_deg_median"].get<double>(), 2.2 * cal_rel);
   const auto [gt_model, gt] = FirstCamera(data_ / "cameras.txt");
@@ -149,14 +150,12 @@ TEST_F(RealDataSelfCalibration, HerzJesuWithoutCalibrationAndWithAWrongFocalPrio
 // temple_sparse_ring (Middlebury, 16 views on a ring, 640 x 480, field of view 24 deg) with the
 // calibration's fx, fy 10% long as a PINHOLE prior, default config. With fx and fy apart, fx
 // is not observable on this ring (the global BA's standard deviation 60-240 px, 4-16%, for fx
-// against ~20 px for fy; the mean focal within 1% in 0 of 6 priors 8-12% long, docs/measurement_history.md issue
-// 14). With one focal unknown and the prior's fy / fx held (intrinsics.refine_aspect_ratio
-// false, the default), measured over priors 8, 10, 12% long and 8% short
-// (bench/temple_prior_survey.sh): both focals within 0.08-0.36% of the dataset's, sd ~19 px.
-// The rotations are not yet at issue 14's 1.3x of the calibrated run (rot err 0.53-2.8 deg
-// against 0.21): the checked re-linearisation stops at its first refused step (docs/measurement_history.md).
+// against ~20 px for fy; the mean focal within 1% in 0 of 6 priors 8-12% long). With one
+// focal unknown and the prior's fy / fx held (intrinsics.refine_aspect_ratio false, the
+// default), measured over priors 8, 10, 12% long and 8% short (bench/temple_prior_survey.sh):
+// both focals within 0.08-0.36% of the dataset's, sd ~19 px.
 TEST_F(RealDataSelfCalibration, TempleRingWithAWrongFocalPrior) {
-  if (!Use("temple_sparse_ring")) GTEST_SKIP() << "dataset missing: " << data_;
+  PGBA_NEED_SHARED_DATA(Use("temple_sparse_ring"), data_.string());
   config_.clear();
   const nlohmann::json cal = Run("calibrated", "--calib " + (data_ / "cameras.txt").string());
   WriteLongFocalCalibration();
@@ -168,9 +167,9 @@ TEST_F(RealDataSelfCalibration, TempleRingWithAWrongFocalPrior) {
             << ep["rel_rot_err_deg_median"] << "\n";
   EXPECT_EQ(ec["images_registered"], 16);
   EXPECT_EQ(ep["images_registered"], 16);
-  // The rotations as good as calibrated (issue 14's bar: 1.3x). Measured since the
-  // re-linearisations triangulate from the previous pass's points (session 17): 0.2149 / 0.2499
-  // deg (Sim3 / rel) against 0.2108 / 0.2286 calibrated, 1.02x / 1.09x; before, 0.58 / 0.56 deg.
+  // The rotations as good as calibrated. Measured (each re-linearisation triangulates from
+  // the previous pass's points): 0.2149 / 0.2499 deg (Sim3 / rel) against 0.2108 / 0.2286
+  // calibrated, 1.02x / 1.09x.
   EXPECT_LT(ep["rot_err_deg_median"].get<double>(), 1.05 * ec["rot_err_deg_median"].get<double>());
   EXPECT_LT(ep["rel_rot_err_deg_median"].get<double>(), 1.12 * ec["rel_rot_err_deg_median"].get<double>());
   const auto [model, est] = FirstCamera(dir_ / "prior" / "sparse" / "cameras.txt");
@@ -187,11 +186,10 @@ TEST_F(RealDataSelfCalibration, TempleRingWithAWrongFocalPrior) {
 
   // No calibration at all (focal guess 768 px, 2x short; principal point estimated in the first
   // pass). This self-calibration is bimodal and the RANSAC seed of the verification picks the
-  // mode (docs/measurement_history.md, Sampson-scored verification): principal point x 298-301 px (the dataset's
+  // mode (bench/verification_seed_spread.sh): principal point x 298-301 px (the dataset's
   // 302.3), 0.22-0.37 deg, focal +1.3%; or x 277-281 px, k1 ~-0.22, 0.86-1.14 deg, focal +2.0%
-  // (measured over seeds 0-3 with either verification; main's passed its old 1.5x rotation bar
-  // at seeds 0 and 3 only). What holds in both modes is asserted; the rotation bar of issue 14
-  // is not met robustly on this ring and stays open there.
+  // (measured over seeds 0-3). What holds in both modes is asserted; a rotation bar of 1.3x the
+  // calibrated run is not met robustly on this ring without any calibration.
   const nlohmann::json uncal = Run("uncalibrated", "");
   const nlohmann::json& eu = uncal["evaluation"];
   std::cout << "uncalibrated: " << eu["images_registered"] << "/16, focal " << 100 * FocalError("uncalibrated")

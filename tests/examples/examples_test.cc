@@ -76,7 +76,7 @@ TEST(Examples, PointlessVsPointBased) {
   EXPECT_NEAR(Num(out, "pointless_ratio_to_pointbased"), 1.0, 0.1);
   EXPECT_LT(Num(out, "pointless_vs_pointbased_rel_rot_deg"), 0.25 * pb);
   // The paper's triplets: better than the start, within a few times the point-based error
-  // (issue 13 measured 2-4x on rings), and with consistent models (misfit below 1).
+  // (1.3-4x on the scenes of docs/benchmarks.md), and with consistent models (misfit below 1).
   EXPECT_LT(Num(out, "triplets_rel_rot_err_deg"), 0.75 * init);
   EXPECT_LT(Num(out, "triplets_ratio_to_pointbased"), 6.0);
   EXPECT_LT(Num(out, "triplets_eq5_misfit_median"), 1.0);

@@ -18,6 +18,7 @@
 #include "features/image_catalog.h"
 #include "pgba/io/colmap_text.h"
 #include "pgba/util/error.h"
+#include "tests/support/shared_data.h"
 
 namespace pgba {
 namespace {
@@ -95,7 +96,7 @@ class ExifFocalTest : public ::testing::Test {
 
 TEST(ExifFocal, SceauxFocalAgreesWithItsCalibration) {
   const std::vector<fs::path> images = SceauxImages();
-  if (images.empty()) GTEST_SKIP() << "dataset not available: " << kSceaux;
+  PGBA_NEED_SHARED_DATA(!images.empty(), kSceaux.string());
   const std::map<uint32_t, Camera> cameras = ReadColmapCameras((kSceaux / "cameras.txt").string());
   ASSERT_EQ(cameras.size(), 1u);
   const Camera& truth = cameras.begin()->second;
@@ -176,7 +177,7 @@ TEST_F(ExifFocalTest, CorruptExifFallsBackWithoutCrashing) {
 
 TEST_F(ExifFocalTest, CatalogWithoutCalibrationUsesExif) {
   const std::vector<fs::path> images = SceauxImages();
-  if (images.empty()) GTEST_SKIP() << "dataset not available: " << kSceaux;
+  PGBA_NEED_SHARED_DATA(!images.empty(), kSceaux.string());
   for (size_t i = 0; i < 3; ++i) fs::create_symlink(images[i], root_ / "images" / images[i].filename());
   const ImageCatalog catalog = BuildImageCatalog((root_ / "images").string(), {});
   EXPECT_EQ(catalog.calibration_source, "exif");

@@ -37,8 +37,8 @@ TEST(ImageCatalogJson, CamerasAndMapFromTheJsonFileMatchTextFiles) {
   fs::remove_all(root);
 }
 
-// A cameras.txt found beside the images that is a FIFO is an error naming it (it was skipped,
-// and the run went on with priors instead of the user's calibration).
+// A cameras.txt found beside the images that is a FIFO is an error naming it (skipping it
+// would run on priors instead of the user's calibration).
 TEST(ImageCatalog, FoundCalibrationThatIsNoRegularFileIsRefused) {
   const fs::path root = fs::temp_directory_path() / ("pgba_catalog_fifo_" + std::to_string(::getpid()));
   fs::remove_all(root);

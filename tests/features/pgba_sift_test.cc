@@ -16,6 +16,7 @@
 #include "features/gaussian_blur.h"
 #include "features/sift_extractor.h"
 #include "pgba/util/error.h"
+#include "tests/support/shared_data.h"
 
 namespace pgba {
 namespace {
@@ -71,7 +72,7 @@ double Repeated(const FeatureSet& a, const FeatureSet& b, const cv::Matx23d& A, 
 
 TEST(PgbaSift, SameDetectorDescriptorAndRepeatabilityAsOpenCvOnARealPhoto) {
   const cv::Mat img = RealCrop();
-  if (img.empty()) GTEST_SKIP() << "fountain_p11 not in shared/datasets";
+  PGBA_NEED_SHARED_DATA(!img.empty(), "fountain_p11/images/0005.jpg");
   const FeatureSet ours = ExtractSift(img, Implementation("pgba"));
   const FeatureSet theirs = ExtractSift(img, Implementation("opencv"));
   const cv::Matx23d identity(1, 0, 0, 0, 1, 0);
@@ -120,15 +121,15 @@ TEST(PgbaSift, SameDetectorDescriptorAndRepeatabilityAsOpenCvOnARealPhoto) {
 }
 
 // OpenCV drops keypoints equal in position, size and angle (two extrema whose refinements end
-// on the same sample) before its cap; pgba's did not, and each duplicate is two identical
-// descriptors in one image, which Lowe's ratio test rejects in every match (16 of 1637 on
-// this Middlebury image before the fix, 0.1-1% on the rings and on Strecha photos). With the
-// duplicates dropped the two implementations find the same number of keypoints: 1621 each
-// here, 0-3 apart on every image of both rings.
+// on the same sample) before its cap, and so does pgba's: each duplicate would be two
+// identical descriptors in one image, which Lowe's ratio test rejects in every match (16 of
+// 1637 on this Middlebury image with them kept, 0.1-1% on the rings and on Strecha photos).
+// With the duplicates dropped the two implementations find the same number of keypoints:
+// 1621 each here, 0-3 apart on every image of both rings.
 TEST(PgbaSift, NoDuplicateKeypointsAndOpenCvsCountOnASmallImage) {
   const fs::path file = fs::path(PGBA_SHARED_DIR) / "datasets" / "temple_sparse_ring" / "images" / "templeSR0002.png";
   const cv::Mat img = cv::imread(file.string(), cv::IMREAD_GRAYSCALE);
-  if (img.empty()) GTEST_SKIP() << "temple_sparse_ring not in shared/datasets";
+  PGBA_NEED_SHARED_DATA(!img.empty(), "temple_sparse_ring/images/templeSR0002.png");
   const FeatureSet ours = ExtractSift(img, Implementation("pgba"));
   const FeatureSet theirs = ExtractSift(img, Implementation("opencv"));
   std::vector<std::tuple<float, float, float, float>> keys;
@@ -143,7 +144,7 @@ TEST(PgbaSift, NoDuplicateKeypointsAndOpenCvsCountOnASmallImage) {
 
 TEST(PgbaSift, ByteIdenticalForAnyThreadCount) {
   const cv::Mat img = RealCrop();
-  if (img.empty()) GTEST_SKIP() << "fountain_p11 not in shared/datasets";
+  PGBA_NEED_SHARED_DATA(!img.empty(), "fountain_p11/images/0005.jpg");
   SiftOptions opt;
   opt.implementation = "pgba";
   opt.max_features = 4000;

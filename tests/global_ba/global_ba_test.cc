@@ -241,9 +241,11 @@ TEST(GlobalBA, SimilarityInitialisationRecoversTheTruth) {
   EXPECT_LT((back.Matrix() - t.global_to_local.Matrix()).norm(), 1e-12);
 }
 
-// Orbit-size problem (70 images, ~420 triplets): time per iteration of the global BA and the
-// local Hessians' cost.
-TEST(GlobalBA, OrbitSizeProblemIsFast) {
+// Orbit-size problem (70 images, 420 triplets): the global BA converges in a few
+// Levenberg-Marquardt iterations over 6 unknowns per pose and 7 per triplet. What that costs
+// in time is measured by bench/pose_accuracy.sh (the CPU-time column of docs/benchmarks.md),
+// not asserted here: a test's time depends on the machine's load. The times are printed.
+TEST(GlobalBA, OrbitSizeProblemConvergesInFewIterations) {
   RingSceneOptions o;
   o.num_images = 70;
   o.num_points = 3000;
@@ -257,11 +259,11 @@ TEST(GlobalBA, OrbitSizeProblemIsFast) {
   const LocalHessianResult lh = ComputeLocalHessians(rec, triplets, PaperTripletLocalHessianOptions());
   const double lh_seconds = t_lh.Seconds();
   const GlobalBAResult r = PointlessGlobalBA(initial, triplets, lh.hessians, PaperTripletGlobalBAOptions());
-  const double per_iteration = r.summary.seconds / std::max(1, r.summary.iterations);
-  std::printf("orbit 70 images, %zu triplets: local hessians %.3f s; global BA %.3f s, %d iterations, %.4f s/it\n",
-              triplets.size(), lh_seconds, r.summary.seconds, r.summary.iterations, per_iteration);
+  std::printf("orbit 70 images, %zu triplets: local hessians %.3f s; global BA %.3f s, %d iterations\n",
+              triplets.size(), lh_seconds, r.summary.seconds, r.summary.iterations);
   EXPECT_EQ(lh.num_ok(), static_cast<int>(triplets.size()));
-  EXPECT_LT(per_iteration, 0.5);
+  EXPECT_EQ(r.summary.num_params, 6 * 70 + 7 * static_cast<int>(triplets.size()));
+  EXPECT_LE(r.summary.iterations, 10);  // 6 measured
   EXPECT_LT(GroundTruthErrors(r.poses, gt).rot_deg_median, 0.05);
 }
 

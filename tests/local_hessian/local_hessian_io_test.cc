@@ -181,8 +181,8 @@ TEST(LocalHessianIo, FiveViewMotionsRoundTripAndAreCheckedAgainstTheMotions) {
   fs::remove(p);
 }
 
-// newton_step (-h^-1 g, global residual offset) is stored; files from before it existed
-// read as zero (paper eq. 5), a malformed one is an error naming the entry.
+// newton_step (-h^-1 g, global residual offset) is stored; an entry without it reads as
+// zero (paper eq. 5), a malformed one is an error naming the entry.
 TEST(LocalHessianIo, NewtonStepIsOptionalOnReading) {
   Fixture f = Make();
   f.result.hessians[0].newton_step.setConstant(1e-6);

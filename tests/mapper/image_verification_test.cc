@@ -66,7 +66,7 @@ TEST(ImageVerification, EveryImageAtItsTruePoseIsVerified) {
   EXPECT_EQ(v.poses.size(), r.truth.size());
 }
 
-// One image rotated by 2 deg (30 px at this focal): its observations no longer reproject, the
+// One image rotated by 2 deg (30 px at this focal): its observations do not reproject, the
 // pairs disagree by 2 deg (under their 5 deg bound): caught by its observations, and placed
 // again from the points of the others at the noise level of one image's pose (0.5 px noise:
 // a point-based BA of this ring ends up to 0.13 deg from the truth), a fraction of the planted

@@ -105,7 +105,7 @@ TEST(PlantedWrongImage, CaughtAndTheModelAdjustedAgainWithoutIt) {
     const PointlessMapperResult bent = PointlessMapper(unverified).Solve(planted.tracks, &unverified_report);
     const GroundTruthErrors e_bent = CompareToGroundTruth(bent.model, scene.gt);
     ASSERT_TRUE(e_bent.ok);
-    EXPECT_GT(e_bent.rot_err_deg_median, 0.3) << "seed " << c.seed << ": the plant no longer bends the model";
+    EXPECT_GT(e_bent.rot_err_deg_median, 0.3) << "seed " << c.seed << ": the plant does not bend the model";
 
     Report report;
     const PointlessMapperResult r = PointlessMapper(PointlessMapperOptions{}).Solve(planted.tracks, &report);

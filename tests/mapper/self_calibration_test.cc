@@ -1,4 +1,4 @@
-// Self-calibration (paper, "Self-calibrating bundle adjustment"; issue 14): photos whose
+// Self-calibration (paper, "Self-calibrating bundle adjustment"): photos whose
 // calibration is only a prior. A ring of 24 views through a SIMPLE_RADIAL lens (f 800 px,
 // k = -0.08, 0.5 px noise) is given to the refinement with the focal prior 15% long and no
 // distortion; the initial poses are the truth perturbed (0.05 deg, 0.1% of the ring radius).

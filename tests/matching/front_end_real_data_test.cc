@@ -11,6 +11,7 @@
 #include "pgba/geometry/rotation.h"
 #include "pgba/io/colmap_text.h"
 #include "pgba/util/timer.h"
+#include "tests/support/shared_data.h"
 #include "triplets/pair_estimation.h"
 
 namespace pgba {
@@ -29,7 +30,7 @@ class FrontEndRealData : public ::testing::TestWithParam<RealDataCase> {};
 TEST_P(FrontEndRealData, VerifiedRelativeRotationsMatchGroundTruth) {
   const RealDataCase c = GetParam();
   const fs::path root = fs::path(PGBA_SHARED_DIR) / "datasets" / c.dataset;
-  ASSERT_TRUE(fs::exists(root / "images")) << "dataset not available: " << root;
+  PGBA_NEED_SHARED_DATA(fs::exists(root / "images"), root.string());
   const fs::path ws =
       fs::temp_directory_path() / ("pgba_front_" + std::string(c.dataset) + "_" + std::to_string(::getpid()));
   fs::remove_all(ws);

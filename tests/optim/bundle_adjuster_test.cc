@@ -5,7 +5,7 @@
 // of iterations to a sigma close to the truth's. Huber (the default loss) does only once the
 // gross outliers are gone; with them left in it settles at ~0.62 px and ~0.9 deg: the reason
 // the benchmark's baseline runs its first pass with Cauchy (PointBasedOptions, tested in
-// tests/mapper/pose_refinement_test.cc).
+// tests/benchmark/baselines_test.cc).
 #include "pgba/optim/bundle_adjuster.h"
 
 #include <gtest/gtest.h>

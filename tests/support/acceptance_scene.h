@@ -1,4 +1,4 @@
-// The synthetic setting of the acceptance criteria (issue tracker, ARCHITECTURE.md): a
+// The synthetic setting the accuracy targets are stated on (docs/benchmarks.md): a
 // `pgba synth` scene with 0.5 px Gaussian noise per coordinate and 2% of the observations
 // replaced by random pixels (gross outliers).
 #pragma once

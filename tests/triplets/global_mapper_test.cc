@@ -86,7 +86,7 @@ void ExpectAccurate(const SyntheticScene& scene, const Outcome& o, double rot_me
   EXPECT_LT(o.centre_median, centre_median);
 }
 
-// Acceptance of issue 3 on the orbit and the aerial block: every image registered, one
+// The initial solution's targets on the orbit and the aerial block: every image registered, one
 // triplet component, rotation error median < 0.1 deg and max < 0.5 deg, centre error
 // median < 1% of the extent.
 TEST(GlobalMapper, OrbitAccurate) {
@@ -109,7 +109,7 @@ TEST(GlobalMapper, PlanarNoiseFreeIsExact) {
   ExpectAccurate(scene, o, 1e-3, 1e-3, 1e-4);
 }
 
-// With noise, on 30 frames: the issue's targets (0.1 deg, 0.5 deg, 1%). Tight: the
+// With noise, on 30 frames: the same targets (0.1 deg, 0.5 deg, 1%). Tight: the
 // three-view geometry of a plane seen with a 35 x 54 degree field of view confuses pitch and
 // yaw with the translation over depth (rms 0.15 deg per triplet), and these errors drift
 // along the strip; the default 60-frame video drifts to a median of ~0.18 deg.
@@ -142,7 +142,7 @@ TEST(GlobalMapper, PlanarSixtyFrames) {
 }
 
 // 10% and 20% of the relative rotations (pairs and triplets) replaced by random ones on the
-// orbit (issue 3): every image registered, median rotation error < 0.5 deg (in fact at the
+// orbit: every image registered, median rotation error < 0.5 deg (in fact at the
 // noise level: the outliers are found). The corrupted relative rotations are excluded as
 // edges; the triplets whose rotations were corrupted as measurements keep their local
 // geometry (outlier_injection.h), so none is dropped and the triplet graph stays whole.

@@ -9,7 +9,7 @@
 // Malformed input (unknown keyword, wrong number of fields, a non-finite number, a duplicate
 // GCP name, a non-positive sigma, an OBS naming no GCP of the file, a file without any GCP)
 // is an InputError "FILE:LINE: problem". Image names are resolved later, against the
-// reconstruction (gcp_constraint.h), where unknown images are warned about and skipped.
+// reconstruction (modules/gcp/gcp_constraint.h), where unknown images are warned about and skipped.
 #pragma once
 
 #include <Eigen/Core>

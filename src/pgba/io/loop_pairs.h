@@ -1,4 +1,4 @@
-// Withheld loop correspondences (ARCHITECTURE.md, "Interchange formats"): one line per
+// Withheld loop correspondences (docs/formats.md, "Inputs"): one line per
 // correspondence, `name_i x_i y_i name_j x_j y_j`, pixels. These are matches between images
 // whose connection was removed from the tracks (e.g. the two ends of a closed ring); the
 // loop-closure metric triangulates them from the two final poses.

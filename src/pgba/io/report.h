@@ -1,4 +1,4 @@
-// report.json of `init` / `reconstruct` / `run` (ARCHITECTURE.md, "Report keys"):
+// report.json of `init` / `reconstruct` / `run` (docs/formats.md, "Reports"):
 //   {"stages": {NAME: {"seconds": s, "cpu_seconds": c, "load_average": l, "peak_rss_mb": m,
 //                      "rss_mb": r, "order": k, ...stage extras}},
 //    "peak_rss_mb": p, "images_registered": n, "images_dropped": [names], ...}

@@ -1,7 +1,7 @@
 // WS/fingerprint.json: what a workspace was computed from, so that `reconstruct
 // --workspace WS` refuses the workspace of another scene or of other options instead of
-// finishing with a wrong model (another scene with the same image names went through with
-// exit 0, 4 of 70 images and 22 degrees of rotation error).
+// finishing with a wrong model (another scene with the same image names would go through
+// with exit 0, 4 of 70 images and 22 degrees of rotation error).
 //
 //   {"format": "pgba_fingerprint", "version": 1, "tracks": "<16 hex digits>",
 //    "init_options": {"pairs": ..., "triplets": ..., "global_init": ...},

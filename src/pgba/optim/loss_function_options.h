@@ -56,7 +56,7 @@ void to_json(nlohmann::json& j, const LossType& type);
 // config reader, io/json_config.h).
 void from_json(const nlohmann::json& j, LossType& type);
 // {"type": "huber", "scale": 1.0}. The options structs that embed a loss keep their own flat
-// keys ("loss", "loss_scale_px", ...: util/json_fields.h), so configs read as before.
+// keys ("loss", "loss_scale_px", ...: util/json_fields.h), so a config names a loss by those keys.
 void to_json(nlohmann::json& j, const LossFunctionOptions& loss);
 void from_json(const nlohmann::json& j, LossFunctionOptions& loss);
 

@@ -1,6 +1,6 @@
 // Points of a model from its tracks and a set of known poses: every track with at least two
 // posed views is triangulated (linear + robust Gauss-Newton, TriangulateTrack); outlier
-// observations stay in their track (the evaluation's sigma skips them). Used to write the points of
+// observations stay in their track (the evaluation's sigma skips them). It writes the points of
 // `init/`, `sparse/` and each benchmark method's model.
 #pragma once
 
