@@ -1,4 +1,4 @@
-#include "benchmark/view_graph_svg.h"
+#include "report/view_graph_svg.h"
 
 #include <algorithm>
 #include <cmath>

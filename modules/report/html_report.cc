@@ -1,4 +1,4 @@
-#include "benchmark/html_report.h"
+#include "report/html_report.h"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -7,10 +7,10 @@
 #include <map>
 #include <sstream>
 
-#include "benchmark/svg_plot.h"
 #include "pgba/optim/intrinsics.h"
 #include "pgba/scene/camera.h"
 #include "pgba/util/text_format.h"
+#include "report/svg_plot.h"
 
 namespace pgba {
 namespace {

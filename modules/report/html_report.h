@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "benchmark/view_graph_svg.h"
 #include "evaluation/evaluation.h"
 #include "pgba/scene/reconstruction.h"
+#include "report/view_graph_svg.h"
 
 namespace pgba {
 
