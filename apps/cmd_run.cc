@@ -102,6 +102,7 @@ void RegisterRun(CLI::App& app) {
       page.title = "pgba run: " + args->images;
       page.report = &report.json();
       page.model = &rec.model;
+      page.models = &models;
       page.convergence = &rec.convergence.sigma;
       page.convergence_tracks = rec.convergence.tracks_evaluated;
       page.convergence_tracks_total = rec.convergence.tracks_total;
