@@ -301,7 +301,8 @@ std::string ModelView3dSection(const ModelView3d& view) {
   }
   const bool several = view.models.size() > 1;
   h << "<p>" << view.cameras.size() << " cameras as frusta (each pointing where its image looks) and "
-    << view.points.size() << " points. Drag to rotate about the model's centre, scroll to zoom, right-drag "
+    << view.points.size() << " points" << (several ? " of the " + std::to_string(view.models.size()) + " models" : "")
+    << ". Drag to rotate about the model's centre, scroll to zoom, right-drag "
        "to pan; hover a camera for its image.";
   if (view.point_step > 1)
     h << " Of the " << view.points_total << " points, one in " << view.point_step

@@ -201,6 +201,8 @@ TEST(ModelView3d, SeveralModelsSideBySideEachOfRadiusOne) {
 
   // The page says the models share no frame and offers both colourings, by model first.
   const std::string section = ModelView3dSection(view);
+  EXPECT_NE(section.find("16 cameras as frusta"), std::string::npos);
+  EXPECT_NE(section.find(std::to_string(view.points.size()) + " points of the 2 models"), std::string::npos);
   EXPECT_NE(section.find("The 2 models have no frame in common"), std::string::npos);
   EXPECT_NE(section.find("value=\"model\" checked"), std::string::npos);
   EXPECT_NE(section.find("id=\"pgba-view3d-legend-model\""), std::string::npos);
