@@ -16,7 +16,6 @@
 
 #include "apps/commands.h"
 #include "apps/output_dir.h"
-#include "benchmark/html_report.h"
 #include "evaluation/model_set_evaluation.h"
 #include "mapper/run_pipeline.h"
 #include "pgba/io/colmap_text.h"
@@ -26,6 +25,7 @@
 #include "pgba/util/atomic_file.h"
 #include "pgba/util/error.h"
 #include "pgba/util/logging.h"
+#include "report/html_report.h"
 
 namespace pgba::app {
 
@@ -102,6 +102,7 @@ void RegisterRun(CLI::App& app) {
       page.title = "pgba run: " + args->images;
       page.report = &report.json();
       page.model = &rec.model;
+      page.models = &models;
       page.convergence = &rec.convergence.sigma;
       page.convergence_tracks = rec.convergence.tracks_evaluated;
       page.convergence_tracks_total = rec.convergence.tracks_total;

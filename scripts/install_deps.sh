@@ -4,6 +4,7 @@ set -euo pipefail
 PKGS=(build-essential cmake ninja-build pkg-config
       libeigen3-dev libceres-dev libsuitesparse-dev libopengv-dev libopencv-dev
       nlohmann-json3-dev libcli11-dev libtbb-dev libsqlite3-dev libexif-dev libgtest-dev
+      libjs-three  # three.js, which report.html inlines for its 3D view (modules/report/CMakeLists.txt)
       chromium)  # chromium: the test that renders report.html headless (tests/apps/report_html_browser_test.cc)
 missing=()
 for p in "${PKGS[@]}"; do

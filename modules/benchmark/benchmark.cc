@@ -7,7 +7,7 @@
 #include <set>
 
 #include "pgba/io/option_ranges.h"
-#include "benchmark/svg_plot.h"
+#include "report/svg_plot.h"
 #include "averaging/outlier_injection.h"
 #include "pgba/io/report.h"
 #include "pgba/util/cpu_time.h"

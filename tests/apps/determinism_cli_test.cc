@@ -99,6 +99,15 @@ TEST_F(DeterminismCli, RunOnPhotosIsByteIdenticalForOneAndTwoThreads) {
     if (f == "report.json" || f == "report.html" || f == "log.txt") continue;
     EXPECT_TRUE(Bytes(one / f) == Bytes(two / f)) << f << " differs between 1 and 2 threads";
   }
+  // report.html holds the stages' timings; the data of its 3D view is the model's, the same.
+  const auto view_data = [](const std::string& html) {
+    const std::string start = "id=\"pgba-view3d-data\">";
+    const size_t from = html.find(start);
+    return from == std::string::npos ? std::string() : html.substr(from, html.find("</script>", from) - from);
+  };
+  const std::string view_one = view_data(Bytes(one / "report.html"));
+  EXPECT_NE(view_one.find("\"cameras\""), std::string::npos);
+  EXPECT_TRUE(view_one == view_data(Bytes(two / "report.html"))) << "the 3D view differs between 1 and 2 threads";
 
   // A failed re-run (every pair rejected) leaves nothing that reads as a result.
   const fs::path impossible = dir_ / "impossible.json";

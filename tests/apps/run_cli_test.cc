@@ -4,8 +4,9 @@
 // folder of non-images fails with exit code 2, a failed report.json and no report.html.
 // report.html says what report.json and the written model say: images registered, points and
 // observations of sparse/, every stage with its seconds in the stages' order and their
-// total, the ground-truth rotation errors, one camera per registered image in the top view,
-// the pairs the view graph verified; self-contained (no script, nothing fetched).
+// total, the ground-truth rotation errors, one camera per registered image in the top view and
+// in the 3D view (with every point of the model), the pairs the view graph verified;
+// self-contained (scripts inline, nothing fetched).
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -84,8 +85,22 @@ void ExpectHtmlMatchesReport(const fs::path& out, const nlohmann::json& r, int i
   const int pairs = r["stages"]["pairs"]["pairs_kept"].get<int>();
   EXPECT_GT(pairs, images);
   EXPECT_NE(html.find("<h2>View graph</h2><p>" + std::to_string(pairs) + " verified pairs"), std::string::npos);
-  // Self-contained: no script, nothing fetched.
-  EXPECT_EQ(html.find("<script"), std::string::npos);
+  // 3D view: one camera per registered image, by name, and every point of the model.
+  const std::string data_start = "<script type=\"application/json\" id=\"pgba-view3d-data\">";
+  const size_t data = html.find(data_start);
+  ASSERT_NE(data, std::string::npos);
+  const size_t data_end = html.find("</script>", data);
+  ASSERT_NE(data_end, std::string::npos);
+  const nlohmann::json view = nlohmann::json::parse(html.substr(data + data_start.size(), data_end - data - data_start.size()));
+  std::vector<std::string> view_names, model_names;
+  for (const auto& c : view["cameras"]) view_names.push_back(c["name"]);
+  for (const auto& [id, im] : model.images) model_names.push_back(im.name);
+  std::sort(view_names.begin(), view_names.end());
+  std::sort(model_names.begin(), model_names.end());
+  EXPECT_EQ(view_names, model_names);
+  EXPECT_EQ(view["points"].size(), 3 * model.points3D.size());
+  // Self-contained: scripts inline, nothing fetched.
+  EXPECT_EQ(html.find("<script src"), std::string::npos);
   EXPECT_EQ(html.find("src=\"http"), std::string::npos);
   EXPECT_EQ(html.find("href=\"http"), std::string::npos);
 }

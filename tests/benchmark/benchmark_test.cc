@@ -10,8 +10,8 @@
 #include <cmath>
 #include <sstream>
 
-#include "benchmark/svg_plot.h"
 #include "mapper/run_pipeline.h"
+#include "report/svg_plot.h"
 #include "synthetic/synthetic_scene.h"
 #include "tests/support/acceptance_scene.h"
 

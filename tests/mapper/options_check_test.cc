@@ -10,7 +10,6 @@
 
 #include "averaging/global_init.h"
 #include "benchmark/benchmark.h"
-#include "benchmark/svg_plot.h"
 #include "evaluation/evaluation.h"
 #include "features/extract_features.h"
 #include "features/sift_keypoints.h"
@@ -20,6 +19,7 @@
 #include "matching/guided_matching.h"
 #include "pgba/geometry/triangulation.h"
 #include "pgba/io/option_ranges.h"
+#include "report/svg_plot.h"
 #include "synthetic/procedural_texture.h"
 #include "synthetic/synthetic_scene.h"
 

@@ -259,7 +259,7 @@ Table BuildTable() {
   t["EssentialRansacOptions.max_iterations"] = kAtLeastOne;
   t["EssentialRansacOptions.confidence"] = kProbability;
   t["EssentialRansacOptions.min_iterations"] = kNonNegative;
-  t["PlotOptions.width"] = kAtLeastOne;  // benchmark/svg_plot.h, pixels
+  t["PlotOptions.width"] = kAtLeastOne;  // report/svg_plot.h, pixels
   t["PlotOptions.height"] = kAtLeastOne;
   t["WholeTrackMotionOptions.max_views"] = AtLeast(2);  // local_hessian/whole_track_motions.h
   t["WholeTrackMotionOptions.min_tracks"] = kAtLeastOne;

@@ -1,4 +1,4 @@
-#include "benchmark/view_graph_svg.h"
+#include "report/view_graph_svg.h"
 
 #include <algorithm>
 #include <cmath>
@@ -31,16 +31,11 @@ ViewGraphPicture MakeViewGraphPicture(const Reconstruction& tracks, const std::v
   return g;
 }
 
-namespace {
-
-// A model's colour: a qualitative palette (the largest model blue), repeating after ten.
 const char* ModelColour(int model) {
   static const char* kPalette[] = {"#1f77b4", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b",
                                    "#e377c2", "#17becf", "#bcbd22", "#7f7f7f", "#393b79"};
   return kPalette[model % 10];
 }
-
-}  // namespace
 
 std::string ViewGraphSvg(const ViewGraphPicture& g, int size) {
   const int n = static_cast<int>(g.images.size());

@@ -1,4 +1,4 @@
-#include "benchmark/svg_plot.h"
+#include "report/svg_plot.h"
 
 #include "pgba/io/option_ranges.h"
 #include "pgba/util/text_format.h"

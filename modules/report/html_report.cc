@@ -1,4 +1,4 @@
-#include "benchmark/html_report.h"
+#include "report/html_report.h"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -7,10 +7,11 @@
 #include <map>
 #include <sstream>
 
-#include "benchmark/svg_plot.h"
 #include "pgba/optim/intrinsics.h"
 #include "pgba/scene/camera.h"
 #include "pgba/util/text_format.h"
+#include "report/model_view_3d.h"
+#include "report/svg_plot.h"
 
 namespace pgba {
 namespace {
@@ -401,6 +402,11 @@ std::string RunReportHtml(const HtmlReportInput& in) {
   h << "</table>\n";
 
   DroppedImagesTable(h, r);
+  ModelView3d view;
+  if (in.models || in.model) {
+    view = MakeModelView3d(in.models ? *in.models : std::vector<const Reconstruction*>{in.model});
+    h << ModelView3dSection(view);
+  }
   if (r.contains("intrinsics") && r["intrinsics"].is_array() && !r["intrinsics"].empty())
     IntrinsicsTable(h, r["intrinsics"]);
 
@@ -427,7 +433,7 @@ std::string RunReportHtml(const HtmlReportInput& in) {
   }
   h << "<h2>Files</h2><ul><li><code>sparse/</code>: COLMAP text model</li><li><code>points.ply</code></li>"
        "<li><code>report.json</code>: every stage's record</li><li><code>log.txt</code></li></ul>\n";
-  h << "</body></html>\n";
+  h << ModelView3dScripts(view) << "</body></html>\n";
   return h.str();
 }
 

@@ -2,14 +2,14 @@
 // sigma is the result's; a log axis has a labelled tick at each decade and at least three
 // labels; the camera parameters by name from the run's prior to the final value; the images
 // not registered with their reasons; the stages in order, a folded pass's stages under it.
-#include "benchmark/html_report.h"
+#include "report/html_report.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <regex>
 
-#include "benchmark/svg_plot.h"
+#include "report/svg_plot.h"
 
 namespace pgba {
 namespace {

@@ -1,11 +1,11 @@
 // The view graph picture of report.html: one circle per input image in name order (hollow
 // when not registered, filled in its model's colour otherwise), one line per verified pair,
 // drawn from the tracks model, the pairs and the final models.
-#include "benchmark/view_graph_svg.h"
+#include "report/view_graph_svg.h"
 
 #include <gtest/gtest.h>
 
-#include "benchmark/html_report.h"
+#include "report/html_report.h"
 
 namespace pgba {
 namespace {

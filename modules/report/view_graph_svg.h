@@ -33,6 +33,10 @@ struct ViewGraphPicture {
 ViewGraphPicture MakeViewGraphPicture(const Reconstruction& tracks, const std::vector<TwoViewGeometry>& pairs,
                                       const std::vector<const Reconstruction*>& models);
 
+// A model's colour in the view graph and the 3D view: a qualitative palette (the largest model
+// blue), repeating after ten.
+const char* ModelColour(int model);
+
 std::string ViewGraphSvg(const ViewGraphPicture& graph, int size = 420);
 
 // The same graph in words, an HTML table: per image (numbered as in the picture), its model
