@@ -1,6 +1,6 @@
 // pgba benchmark --tracks INPUT --out OUT [--gt GT] [--loop loop_pairs.txt] [--config F]
 //                [--rotation-outliers F] [--outlier-sweep] [--triplet-split]
-//                [--perturb-deg D [--perturb-seed S]]
+//                [--perturb-deg D [--perturb-seed S]] [--start MODEL]
 //
 // The paper's evaluation: one shared initialisation, then pointless BA, point-based BA and
 // Aver_BA from the same initial poses. Writes OUT/models/<method>/ (COLMAP text),
@@ -8,6 +8,7 @@
 // OUT/outlier_sweep.svg (paper Figure 4); prints the paper's tables.
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <string>
 
@@ -26,7 +27,7 @@ namespace pgba::app {
 
 void RegisterBenchmark(CLI::App& app) {
   struct Args {
-    std::string tracks, out, config, gt, loop;
+    std::string tracks, out, config, gt, loop, start;
     double rotation_outliers = 0.0;
     bool outlier_sweep = false;
     bool triplet_split = false;
@@ -51,6 +52,9 @@ void RegisterBenchmark(CLI::App& app) {
                   "the methods run: a start the defaults were not chosen on")
       ->check(CLI::Range(0.0, 30.0));
   sub->add_option("--perturb-seed", args->perturb_seed, "Seed of --perturb-deg's random axes");
+  sub->add_option("--start", args->start,
+                  "COLMAP text model whose poses (matched by image name) replace the initialisation's: every "
+                  "method starts there (e.g. another method's result, to see whether it stays)");
   sub->add_flag("--no-convergence", args->no_convergence, "Skip the per-iteration sigma curves");
   sub->add_flag("--triplet-split", args->triplet_split,
                 "Also run the point-based BA over the triplets' own tracks (the objective the pointless BA "
@@ -59,7 +63,8 @@ void RegisterBenchmark(CLI::App& app) {
   AddCommand(app, sub, [args] {
     namespace fs = std::filesystem;
     CheckOutputDir(args->out, kBenchmarkOutputs,
-                   {{"--tracks", args->tracks}, {"--gt", args->gt}, {"--loop", args->loop}, {"--config", args->config}});
+                   {{"--tracks", args->tracks}, {"--gt", args->gt}, {"--loop", args->loop}, {"--config", args->config},
+                    {"--start", args->start}});
     // First: a re-run refused at its options or inputs must not leave the earlier result.
     RemovePreviousResults(args->out, kBenchmarkResults);
     const PointlessMapperOptions ro = LoadRunOptions(args->config).reconstruction;
@@ -79,10 +84,28 @@ void RegisterBenchmark(CLI::App& app) {
     if (!args->gt.empty()) gt = ReadColmapText(args->gt, /*points_optional=*/true);
     std::vector<LoopCorrespondence> loops;
     if (!args->loop.empty()) loops = ReadLoopPairs(args->loop);
+    Reconstruction start;
+    if (!args->start.empty()) start = ReadColmapText(args->start, /*points_optional=*/true);
 
     PrepareOutputDir(args->out);
     Report report;
     GlobalMapperResult init = NamingTheSource(source, [&] { return RunGlobalMapper(tracks, options.mapper, &report); });
+    if (!args->start.empty()) {
+      std::map<std::string, const Image*> by_name;
+      for (const auto& [id, image] : start.images) by_name[image.name] = &image;
+      size_t replaced = 0;
+      for (auto& [id, pose] : init.init.poses) {
+        const auto it = by_name.find(tracks.images.at(id).name);
+        if (it == by_name.end()) continue;
+        pose = it->second->pose;
+        ++replaced;
+      }
+      if (replaced == 0)
+        throw InputError((std::filesystem::path(args->start) / "images.txt").string() +
+                         ": no image of the initialisation is in this model (images are matched by name)");
+      std::cout << "start: " << replaced << " of " << init.init.poses.size() << " initial poses from " << args->start
+                << "\n";
+    }
     if (args->perturb_deg > 0) init.init.poses = PerturbedStart(init.init.poses, args->perturb_deg, args->perturb_seed);
     // Every method runs with the cameras the mapper ends with (focals from the view graph).
     const Reconstruction calibrated = TracksWithCameras(tracks, init.cameras);
@@ -101,6 +124,7 @@ void RegisterBenchmark(CLI::App& app) {
       j["rotation_outliers"] = args->rotation_outliers;
       j["perturb_deg"] = args->perturb_deg;
       j["perturb_seed"] = args->perturb_seed;
+      if (!args->start.empty()) j["start"] = args->start;
       WriteStringAtomically((out / "convergence.svg").string(), ConvergencePlot(result));
       if (!result.sweep.empty())
         WriteStringAtomically((out / "outlier_sweep.svg").string(), OutlierSweepPlot(result));

@@ -161,9 +161,10 @@ struct GlobalBAOptions {
   // (LocalHessianOptions::max_reprojection_px, 4 px) and would be dropped from the first
   // models, leaving cameras that then hold too few to move back. When the median reprojection
   // error at the start (tracks re-triangulated) times start_outlier_factor exceeds that
-  // threshold, the passes first run to convergence on models taken with this wider threshold,
-  // then the models are re-taken at that solution with the configured threshold and the passes
-  // run again (the true cost is compared within one threshold only). <= 0: off.
+  // threshold, the passes first run on models taken with this wider threshold, until they
+  // converge or the same test no longer finds the poses far, then the models are re-taken
+  // there with the configured threshold and the passes run again to convergence (the true cost
+  // is compared within one threshold only). <= 0: off.
   double start_outlier_factor = 3.0;
   // function_tolerance of a solve whose solution is re-linearised and checked next: the
   // models re-taken there move the cost by more than this, so converging on the old models

@@ -119,6 +119,16 @@ MotionBlockSummary SolveMotionBlocks(const MotionBlockProblem& p, const MotionBl
   internal::PoseSystem system(p);
   std::vector<const SymmetricMatrix*> h(p.terms.size());
   std::vector<TermIndex> index(p.terms.size());
+  // Freed memory is handed back to the system only when there is much of it: the motions'
+  // pose-pair blocks hold as many doubles as their h, and on a small problem returning them
+  // only makes the next linearisation fault the same pages in again.
+  constexpr double kReleaseAboveBytes = 64.0 * (1 << 20);
+  double hessian_bytes = 0.0;
+  for (const MotionBlockTerm& t : p.terms)
+    hessian_bytes += 4.0 * static_cast<double>(t.h->rows()) * static_cast<double>(t.h->rows() + 1);
+  const auto release = [&] {
+    if (hessian_bytes > kReleaseAboveBytes) ReleaseFreeMemory();
+  };
   for (size_t ti = 0; ti < p.terms.size(); ++ti) {
     const MotionBlockTerm& t = p.terms[ti];
     h[ti] = t.h;
@@ -132,7 +142,7 @@ MotionBlockSummary SolveMotionBlocks(const MotionBlockProblem& p, const MotionBl
       for (int i = 0; i < p.intrinsics[b]->size(); ++i) index[ti].kvar.push_back(system.intrinsic_var(b, i));
   }
 
-  ReleaseFreeMemory();  // the pattern's construction: before the factor takes its place
+  release();  // the pattern's construction: before the factor takes its place
   double cost = MotionBlockCost(p);
   summary.initial_cost = summary.final_cost = cost;
   if (!std::isfinite(cost)) {
@@ -192,7 +202,7 @@ MotionBlockSummary SolveMotionBlocks(const MotionBlockProblem& p, const MotionBl
     if (relinearize) {
       linearize_all();
       relinearize = false;
-      ReleaseFreeMemory();  // the motions' pose-pair blocks, summed and freed chunk by chunk
+      release();  // the motions' pose-pair blocks, summed and freed chunk by chunk
     }
     // Damped reduced system: each motion's similarity eliminated with its damped 7 x 7 block.
     AssembleReduced(p, sys, index, pose_blocks, gradient, radius, &system, &rhs, &Hss_inv);

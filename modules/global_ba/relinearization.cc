@@ -5,6 +5,7 @@
 // pass over the observations (re-triangulation, Schur complement) plus one global solve.
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <utility>
 #include <vector>
@@ -144,7 +145,8 @@ GlobalBAResult CheckedRelinearization(const Reconstruction& tracks, const LocalH
                                       const std::map<uint32_t, Pose>& initial_poses,
                                       const std::vector<LocalMotion>& motions, std::vector<LocalHessian> hessians,
                                       const GlobalBAOptions& options,
-                                      const GlobalBAIterationCallback& callback, const GcpInput* gcps) {
+                                      const GlobalBAIterationCallback& callback, const GcpInput* gcps,
+                                      const std::function<bool(const std::map<uint32_t, Pose>&)>& near_enough = nullptr) {
   Timer timer;
   GlobalBAOptions pointless = options;
   pointless.weighting = TripletWeighting::kHessian;
@@ -220,6 +222,10 @@ GlobalBAResult CheckedRelinearization(const Reconstruction& tracks, const LocalH
     kept = trial;
     total.relinearizations += 1;
     total.relinearization_displacement = displacement;
+    if (near_enough && near_enough(kept.poses)) {
+      total.stop_reason = "near_enough";
+      break;
+    }
     if (decrease < options.relinearize_cost_tolerance) {
       total.stop_reason = "cost_tolerance";
       break;
@@ -365,17 +371,30 @@ GlobalBAResult GraduatedRelinearization(const Reconstruction& tracks, const Loca
     return r;
   }
   PGBA_LOG_DEBUG << "global BA: the start is far from the solution (median reprojection error " << median
-                << " px): first converged with observations up to " << wide_px << " px, then up to "
+                << " px): first adjusted with observations up to " << wide_px << " px, then up to "
                 << lh_options.max_reprojection_px << " px";
   const FreeIntrinsics free = FreeIntrinsicsOf(hessians);
   LocalHessianOptions wide = lh_options;
   wide.max_reprojection_px = wide_px;
   wide.solver.max_iterations = 0;
   const ObservationShares shares = SharesOf(tracks, motions, wide);
-  LocalHessianResult first = ComputeLocalHessians(tracks, motions, wide, &shares, free.empty() ? nullptr : &free);
+  // The wide models' points start from the given models' (the same frames): a warm
+  // re-triangulation instead of one from scratch.
+  LocalHessianResult first;
+  {
+    std::vector<LocalMotion> warm = motions;
+    for (size_t i = 0; i < warm.size() && i < hessians.size(); ++i)
+      if (hessians[i].track_points.size() == warm[i].track_ids.size()) warm[i].track_points = hessians[i].track_points;
+    first = ComputeLocalHessians(tracks, warm, wide, &shares, free.empty() ? nullptr : &free);
+  }
   const double first_seconds = timer.Seconds();
+  // The wide phase ends as soon as the start is no longer far by the test that began it: the
+  // configured threshold then keeps the inliers, and its own passes converge from there.
+  const auto near_enough = [&](const std::map<uint32_t, Pose>& poses) {
+    return !(options.start_outlier_factor * StartMedianResidual(tracks, poses, motions) > lh_options.max_reprojection_px);
+  };
   const GlobalBAResult r = CheckedRelinearization(tracks, wide, initial_poses, motions, first.hessians, options,
-                                                  callback, gcps);
+                                                  callback, gcps, near_enough);
   // The configured models where the wide passes ended (the others as given).
   Timer retake;
   LocalHessianOptions at_solution = lh_options;

@@ -137,6 +137,52 @@ TEST_F(BenchmarkCli, WritesTheDocumentedReportWithNumbersMatchingTheTruth) {
   EXPECT_LE(4 * pl["params"].get<long>(), P);
 }
 
+// --start replaces the initialisation by a given model's poses: from the ground truth every
+// method starts at the noise level (the initial reprojection error is the truth's, below the
+// averaging's start), and the result is the same minimum for both. A start without one image
+// of the scene is an input error naming its file.
+TEST_F(BenchmarkCli, StartsEveryMethodFromAGivenModel) {
+  const std::string tracks = (dir_ / "scene" / "input").string();
+  const std::string gt = (dir_ / "scene" / "gt").string();
+  const auto run = [&](const std::string& name, const std::string& extra) {
+    const fs::path out = dir_ / name;
+    const test::CliResult r = test::RunPgba("-v 0 benchmark --tracks " + tracks + " --gt " + gt +
+                                            " --no-convergence --out " + out.string() + extra);
+    EXPECT_EQ(r.code, 0) << r.output;
+    std::ifstream in(out / "benchmark.json");
+    return std::make_pair(r.output, nlohmann::json::parse(in));
+  };
+  const auto [averaged_log, averaged] = run("from_averaging", "");
+  const auto [truth_log, truth] = run("from_truth", " --start " + gt);
+  EXPECT_NE(truth_log.find("start: " + std::to_string(kImages) + " of " + std::to_string(kImages) + " initial poses"),
+            std::string::npos)
+      << truth_log;
+  EXPECT_EQ(truth.value("start", ""), gt);
+  for (const char* method : {"pointless", "pointbased"}) {
+    const nlohmann::json& a = averaged["methods"][method];
+    const nlohmann::json& t = truth["methods"][method];
+    EXPECT_LT(t["sigma_init"].get<double>(), 0.9 * a["sigma_init"].get<double>()) << method;
+    EXPECT_LT(t["sigma_init"].get<double>(), 1.1 * t["sigma_final"].get<double>()) << method;
+  }
+  const double pl = truth["methods"]["pointless"]["rel_rot_err_deg_median"].get<double>();
+  const double pb = truth["methods"]["pointbased"]["rel_rot_err_deg_median"].get<double>();
+  EXPECT_NEAR(pl, pb, 0.02 * pb);
+
+  // A model that names none of the scene's images.
+  const fs::path other = dir_ / "other_model";
+  fs::create_directories(other);
+  std::ofstream(other / "cameras.txt") << "1 PINHOLE 640 480 500 500 320 240\n";
+  std::ofstream(other / "images.txt") << "1 1 0 0 0 0 0 0 1 not_in_the_scene.jpg\n\n";
+  std::ofstream(other / "points3D.txt") << "";
+  const fs::path out = dir_ / "bad_start";
+  ExpectError(test::RunPgba("-v 0 benchmark --tracks " + tracks + " --start " + other.string() + " --out " + out.string()),
+              (other / "images.txt").string(), false);
+  EXPECT_FALSE(fs::exists(out / "benchmark.json"));
+  const std::string missing = (dir_ / "no_such_start").string();
+  ExpectError(test::RunPgba("-v 0 benchmark --tracks " + tracks + " --start " + missing + " --out " + out.string()),
+              missing, false);
+}
+
 TEST_F(BenchmarkCli, BadOptionsExitTwoWithAnErrorLineAndNoReport) {
   const std::string tracks = (dir_ / "scene" / "input").string();
   const fs::path out = dir_ / "bad";
