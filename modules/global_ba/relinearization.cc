@@ -7,6 +7,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <numeric>
 #include <utility>
 #include <vector>
 
@@ -75,14 +76,6 @@ double Displacement(const std::vector<double>& displacements, const std::vector<
     if (std::isfinite(displacements[i])) d.push_back(displacements[i]);
   if (d.empty()) return 0.0;
   return largest ? *std::max_element(d.begin(), d.end()) : UpperMedian(d);
-}
-
-// The largest finite value of `displacements` (motions left out are NaN); 0 when none.
-double LargestDisplacement(const std::vector<double>& displacements) {
-  double largest = 0.0;
-  for (const double d : displacements)
-    if (std::isfinite(d)) largest = std::max(largest, d);
-  return largest;
 }
 
 // `callback` seeing iterations counted on after `offset` (one continuous count over solves).
@@ -188,7 +181,9 @@ GlobalBAResult CheckedRelinearization(const Reconstruction& tracks, const LocalH
       // where the models it was solved on are exact to second order: re-taking them there
       // (one more pass over the observations) would only confirm it. The first step is always
       // checked: it starts from poses no model was taken at a solution of.
-      const double step = LargestDisplacement(moved);
+      std::vector<int> every(moved.size());
+      std::iota(every.begin(), every.end(), 0);
+      const double step = Displacement(moved, every, /*largest=*/true);
       if (step < options.relinearize_tolerance) {
         kept = trial;
         total.passes.push_back({std::numeric_limits<double>::quiet_NaN(), true, step, lh_options.max_reprojection_px});
